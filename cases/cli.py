@@ -1,0 +1,142 @@
+"""The ``partmesh`` command line (SPEC §6). Every command is a thin wrapper
+around a documented Python function."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from cases.errors import InputError, SolverFailed
+from compare.report import IncompatibleResults
+from compare.schema import SchemaError
+
+
+def _settings(pairs: list[str]) -> dict:
+    """``key=value`` strings as a dict (values stay strings; the scene
+    converts them to the parameter's type)."""
+    out = {}
+    for pair in pairs or []:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise InputError(f"--set expects key=value, got {pair!r}.")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def cmd_cases(args) -> int:
+    from cases.registry import defaults, describe, names
+
+    for name in names():
+        print(f"{name}: {describe(name)}")
+        for key, value in defaults(name).items():
+            print(f"    {key} = {value!r}")
+    return 0
+
+
+def cmd_run(args) -> int:
+    from cases.registry import get
+    from cases.run import run
+    from compare.io import write
+
+    scene = get(args.case, **_settings(args.set))
+    settings = {"progress": not args.quiet}
+    if args.dx is not None:
+        settings["dx"] = args.dx
+    if args.t_end is not None:
+        settings["t_end"] = args.t_end
+    if args.cfl is not None:
+        settings["cfl"] = args.cfl
+    settings.update(_settings(args.option))
+    try:
+        ds = run(scene, args.method, **settings)
+    except SolverFailed as failure:
+        if failure.partial is not None:
+            write(failure.partial, args.output)
+            print(f"partial result written to {args.output}", file=sys.stderr)
+        raise
+    write(ds, args.output)
+    if not args.quiet:
+        print(f"{args.case} with {args.method}: {ds.attrs['n_steps']} steps, {ds.attrs['wall_seconds']:.2f} s "
+              f"(+{ds.attrs['compile_seconds']:.2f} s compile) -> {args.output}")
+    return 0
+
+
+def cmd_compare(args) -> int:
+    from cases.reporting import compare_files
+
+    table = compare_files(args.runs, reference=args.reference, output=args.output)
+    print(table.to_string(index=False))
+    print(f"report written to {args.output}")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from cases.demo import demo
+
+    demo(Path(args.output), progress=not args.quiet)
+    return 0
+
+
+def cmd_bench(args) -> int:
+    from cases.bench import bench
+
+    bench(args.output, size=args.size, quick=args.quick)
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="partmesh", description="Particle and mesh methods on the same scenes, compared.")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    sub.add_parser("cases", help="list scenes and their parameters").set_defaults(func=cmd_cases)
+
+    r = sub.add_parser("run", help="run one scene with one method")
+    r.add_argument("case")
+    r.add_argument("--method", "-m", required=True)
+    r.add_argument("--dx", type=float, help="cell size (fv, dsmc) or initial particle spacing (sph) [m]")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene parameter (repeatable)")
+    r.add_argument("--option", action="append", metavar="KEY=VALUE",
+                   help="solver setting, e.g. limiter=minmod, riemann=hll (repeatable)")
+    r.add_argument("--t-end", type=float, dest="t_end")
+    r.add_argument("--cfl", type=float)
+    r.add_argument("--seed", type=int, help="random seed (particle methods)")
+    r.add_argument("-o", "--output", required=True)
+    r.add_argument("--quiet", action="store_true")
+    r.set_defaults(func=cmd_run)
+
+    c = sub.add_parser("compare", help="error table of runs of one scene")
+    c.add_argument("runs", nargs="+")
+    c.add_argument("--reference", default="exact", help="'exact' or a reference result file")
+    c.add_argument("-o", "--output", default="report")
+    c.set_defaults(func=cmd_compare)
+
+    d = sub.add_parser("demo", help="small end-to-end comparison on built-in defaults")
+    d.add_argument("-o", "--output", default="partmesh-demo")
+    d.add_argument("--quiet", action="store_true")
+    d.set_defaults(func=cmd_demo)
+
+    b = sub.add_parser("bench", help="throughput of each method (JSON)")
+    b.add_argument("-o", "--output", default="bench.json")
+    b.add_argument("--size", type=int, default=512, help="2D Sedov cells per side")
+    b.add_argument("--quick", action="store_true", help="a short run for a smoke check")
+    b.set_defaults(func=cmd_bench)
+    return p
+
+
+def main(argv=None) -> int:
+    args = parser().parse_args(argv)
+    if getattr(args, "seed", None) is not None:
+        args.option = (args.option or []) + [f"seed={args.seed}"]
+    try:
+        return args.func(args)
+    except (InputError, SchemaError, IncompatibleResults, FileNotFoundError) as err:
+        print(f"partmesh: {err}", file=sys.stderr)
+        return 2
+    except SolverFailed as err:
+        print(f"partmesh: {err}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

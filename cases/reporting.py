@@ -1,0 +1,41 @@
+"""Reports over result files: the scene side of ``partmesh compare`` (it
+rebuilds the scene from a result's parameters to get its exact solution)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from cases.errors import InputError
+from cases.registry import get
+from compare.io import read
+from compare.report import scene_of, table, write_table
+
+
+def exact_reference(ds):
+    """The exact solution of the scene ``ds`` was run on, at its output times."""
+    params = dict(scene_of(ds))
+    case = params.pop("case")
+    reference = get(case, **params).exact(ds.time.values)
+    if reference is None:
+        raise InputError(f"scene {case} has no exact solution; pass a reference result with --reference FILE.")
+    return reference
+
+
+def compare_files(paths, reference: str = "exact", output: str | Path = "report") -> pd.DataFrame:
+    """Error table of the result files ``paths`` against ``reference``
+    ('exact', 'none', or a result file), written to ``output`` as
+    summary.csv and summary.json."""
+    runs = [read(p) for p in paths]
+    names = [Path(p).stem for p in paths]
+    if reference == "exact":
+        ref = exact_reference(runs[0])
+    elif reference == "none":
+        ref = None
+    else:
+        ref = read(reference)
+        table([ref, runs[0]], None, [Path(reference).stem, names[0]])  # same scene and grid, or refuse
+    df = table(runs, ref, names)
+    write_table(df, output)
+    return df

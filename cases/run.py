@@ -1,0 +1,46 @@
+"""Run a scene with any registered method.
+
+Methods are found through the ``partmesh.methods`` entry-point group (as
+xarray finds its backends): ``fv = "gridref.euler:solve"`` and so on. No
+solver is imported until it is asked for, and another package can add a
+method by declaring an entry point of its own.
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import entry_points
+
+from cases.errors import InputError
+
+GROUP = "partmesh.methods"
+
+
+def methods() -> dict:
+    """Registered methods: name -> entry point."""
+    return {ep.name: ep for ep in entry_points(group=GROUP)}
+
+
+def solver(method: str):
+    """The ``solve(scene, **settings)`` function of ``method``."""
+    available = methods()
+    if method not in available:
+        raise InputError(f"unknown method {method!r}; available methods: {', '.join(sorted(available)) or 'none'}.")
+    return available[method].load()
+
+
+def run(scene, method: str, **settings):
+    """Run ``scene`` (a Scene or a case name) with ``method`` and return the
+    schema Dataset, with the scene's measured quantities in its attributes.
+
+    ``settings`` go to the solver (``dx``, ``cfl``, ``t_end``, ``progress``, and
+    method-specific ones). A run that fails raises
+    :class:`~cases.errors.SolverFailed` carrying the partial result.
+    """
+    if isinstance(scene, str):
+        from cases.registry import get
+
+        scene = get(scene)
+    ds = solver(method)(scene, **settings)
+    if scene.measure is not None:
+        ds.attrs.update(scene.measure(ds))
+    return ds

@@ -1,0 +1,141 @@
+"""Scenes as plain data: what is simulated, not how.
+
+A :class:`Scene` holds the dimension, domain, gas, initial state, boundaries,
+obstacles, probes, the output grid and times, and the default resolution.
+Every solver reads the same Scene and writes its fields on the scene's
+:class:`OutputGrid`, so results of different methods subtract directly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+SIDES = ("x_lo", "x_hi", "y_lo", "y_hi")
+BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
+
+
+@dataclass(frozen=True)
+class Inflow:
+    """An imposed, possibly time-dependent, gas state on a boundary.
+
+    ``state(t)`` returns ``(rho, u, v, p)`` at time ``t`` [s]; velocities are
+    Cartesian components (an inflow through ``x_lo`` has ``u > 0``).
+    """
+
+    state: Callable[[float], tuple[float, float, float, float]]
+    description: str
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A named point where a time series is recorded."""
+
+    name: str
+    x: float
+    y: float = 0.0
+
+
+@dataclass(frozen=True)
+class Wall:
+    """The target wall whose load is reported as ``wall_force``/``wall_impulse``.
+
+    ``height`` [m] is the wall's extent across the flow; in a 1D run the force
+    per metre depth is ``(p_wall - p0) * height`` so 1D and 2D results of the
+    same scene compare directly.
+    """
+
+    side: str
+    p0: float
+    height: float
+
+
+@dataclass(frozen=True)
+class OutputGrid:
+    """The scene's output grid: uniform cell centres over the domain, output
+    times, and the probe sampling interval."""
+
+    domain: tuple[tuple[float, float], ...]
+    shape: tuple[int, ...]  # (nx,) or (nx, ny)
+    times: tuple[float, ...]
+    dt_probe: float
+
+    @property
+    def spacing(self) -> tuple[float, ...]:
+        return tuple((hi - lo) / n for (lo, hi), n in zip(self.domain, self.shape))
+
+    def centres(self, axis: int) -> np.ndarray:
+        """Cell-centre coordinates along ``axis`` (0: x, 1: y)."""
+        (lo, hi), n = self.domain[axis], self.shape[axis]
+        return lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
+    @property
+    def x(self) -> np.ndarray:
+        return self.centres(0)
+
+    @property
+    def y(self) -> np.ndarray | None:
+        return self.centres(1) if len(self.shape) == 2 else None
+
+    def probe_times(self, t_end: float) -> np.ndarray:
+        """Sampling times 0, dt_probe, ... up to and including ``t_end``."""
+        n = int(np.floor(t_end / self.dt_probe + 1e-9))
+        t = np.arange(n + 1) * self.dt_probe
+        return t if np.isclose(t[-1], t_end) else np.append(t, t_end)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One scene of the toolkit (see SPEC §4).
+
+    ``initial(x, y, dx)`` returns primitive ``(rho, u, v, p)`` arrays at the
+    points ``(x, y)`` (``y`` is ``None`` in 1D); ``dx`` is the spacing of the
+    points, for scenes that deposit a quantity over a few cells (Sedov).
+    ``boundaries`` maps each side of the domain to ``"reflect"``,
+    ``"outflow"``, ``"periodic"`` or an :class:`Inflow`.
+    ``exact_solution(times)``, where the scene has one, returns a schema
+    Dataset on the output grid. ``measure(result)``, where given, returns the
+    scene's measured quantities (e.g. a shock angle) as attributes to attach
+    to every result.
+    """
+
+    name: str
+    parameters: dict
+    dim: int
+    domain: tuple[tuple[float, float], ...]
+    gamma: float
+    initial: Callable
+    boundaries: dict
+    output: OutputGrid
+    dx: float
+    t_end: float
+    obstacles: tuple = ()
+    probes: tuple[Probe, ...] = ()
+    wall: Wall | None = None
+    fields: tuple[str, ...] = ("rho", "u", "p", "e")
+    exact_solution: Callable | None = None
+    measure: Callable | None = None
+    description: str = ""
+    extra: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        from cases.checks import check_scene
+
+        check_scene(self)
+
+    @property
+    def sides(self) -> tuple[str, ...]:
+        return SIDES[: 2 * self.dim]
+
+    def exact(self, times=None):
+        """The exact solution at ``times`` (default: the output times) as a
+        schema Dataset, or ``None`` where the scene has none."""
+        if self.exact_solution is None:
+            return None
+        return self.exact_solution(np.asarray(self.output.times if times is None else times, float))
+
+    def to_dict(self) -> dict:
+        """The scene's parameters in JSON-able form (stored in every result)."""
+        return {"case": self.name, **self.parameters}

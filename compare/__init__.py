@@ -1,0 +1,10 @@
+"""Schema, netCDF I/O, exact solutions, metrics and reports.
+
+``compare`` imports none of the other partmesh packages: it is the common
+ground that solvers write to and studies read from.
+"""
+
+from compare.io import read, write
+from compare.schema import SchemaError, result, validate
+
+__all__ = ["SchemaError", "read", "result", "validate", "write"]

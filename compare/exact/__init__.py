@@ -1,0 +1,45 @@
+"""Exact solutions to compare runs against (SPEC §5).
+
+* :mod:`compare.exact.riemann` — exact Riemann solver, vacuum included (Toro 2009, ch. 4)
+* :mod:`compare.exact.shocks` — normal shock, shock reflection, theta-beta-M,
+  Friedlander and Rankine-Hugoniot blast inflow (Anderson; Kinney & Graham)
+* :mod:`compare.exact.sedov` — Sedov-Taylor point blast (Sedov 1959; Kamm & Timmes 2007)
+* :mod:`compare.exact.noh` — Noh's implosion (Noh 1987)
+
+Functions that describe fields return a Dataset in the partmesh schema with
+``method = "exact"``, so an exact answer compares like a run.
+"""
+
+from compare.exact.noh import noh, noh_profile
+from compare.exact.riemann import riemann, sample, star_state
+from compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
+from compare.exact.shocks import (
+    BLASTS,
+    friedlander,
+    max_deflection,
+    normal_shock,
+    rankine_hugoniot_inflow,
+    reflected_shock,
+    reflection_coefficient,
+    theta_beta_mach,
+)
+
+__all__ = [
+    "BLASTS",
+    "friedlander",
+    "max_deflection",
+    "noh",
+    "noh_profile",
+    "normal_shock",
+    "rankine_hugoniot_inflow",
+    "reflected_shock",
+    "reflection_coefficient",
+    "riemann",
+    "sample",
+    "sedov",
+    "sedov_alpha",
+    "sedov_profile",
+    "shock_radius",
+    "star_state",
+    "theta_beta_mach",
+]

@@ -1,0 +1,48 @@
+"""Atomic netCDF4 writing and checked reading of partmesh results (SPEC §2, §9)."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import xarray as xr
+
+from compare.schema import SchemaError, validate
+
+
+def write(ds: xr.Dataset, path: str | os.PathLike) -> Path:
+    """Validate ``ds`` and write it to ``path`` as netCDF4, atomically: the data
+    go to a temporary file in the same folder, which is then renamed, so a
+    reader never sees a half-written result."""
+    validate(ds)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def read(path: str | os.PathLike) -> xr.Dataset:
+    """Read a partmesh result into memory; refuse, with one sentence, a file
+    that is missing, not netCDF, or not a partmesh result."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"result file {str(path)!r} does not exist.")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            ds = ds.load()
+    except (OSError, ValueError) as err:
+        raise SchemaError(f"{str(path)!r} is not a readable netCDF file ({err}).") from None
+    if "partmesh_version" not in ds.attrs:
+        raise SchemaError(f"{str(path)!r} is not a partmesh result (it has no 'partmesh_version' attribute).")
+    try:
+        return validate(ds)
+    except SchemaError as err:
+        raise SchemaError(f"{str(path)!r} is a damaged partmesh result: {err}") from None

@@ -1,0 +1,91 @@
+"""Comparison tables: runs of one scene against a reference (SPEC §5).
+
+:func:`table` turns runs (schema Datasets) and a reference (an exact
+solution or another run) into one row per run: method, resolution, cost,
+the L1/L2/L∞ error of every common field at the last common output time,
+and the scalar quantities the scene measured (shock angle, C_R, wall load).
+:func:`write_table` saves it as ``summary.csv`` and ``summary.json``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from compare.metrics import field_error
+from compare.schema import FIELDS, parameters
+
+COST_ATTRS = ("dx", "n_elements", "n_steps", "wall_seconds", "compile_seconds")
+NORMS = ("L1", "L2", "Linf")
+
+
+class IncompatibleResults(ValueError):
+    """Results that cannot be compared: different scenes or different grids."""
+
+
+def scene_of(ds: xr.Dataset) -> dict:
+    """The scene parameters a result was computed for."""
+    return parameters(ds).get("scene", {"case": ds.attrs["case"]})
+
+
+def check_same_scene(runs: list[xr.Dataset], names: list[str]) -> None:
+    """Refuse, in one sentence, runs of different scenes or on different output grids."""
+    first = scene_of(runs[0])
+    for ds, name in zip(runs[1:], names[1:]):
+        other = scene_of(ds)
+        if other != first:
+            changed = sorted(k for k in set(first) | set(other) if first.get(k) != other.get(k))
+            raise IncompatibleResults(
+                f"{name} is a run of a different scene than {names[0]} (they differ in {', '.join(changed)})."
+            )
+        for coord in ("x", "y"):
+            if (coord in ds.coords) != (coord in runs[0].coords) or (
+                coord in ds.coords and not np.allclose(ds[coord].values, runs[0][coord].values, rtol=0, atol=1e-12)
+            ):
+                raise IncompatibleResults(f"{name} is not on the same output grid as {names[0]} (coordinate {coord}).")
+
+
+def measured(ds: xr.Dataset) -> dict:
+    """Scalar measurements a scene attached to the result (numeric attrs
+    outside the schema's bookkeeping)."""
+    skip = set(COST_ATTRS) | {"partmesh_version", "Conventions", "created"}
+    return {k: float(v) for k, v in ds.attrs.items()
+            if k not in skip and isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)}
+
+
+def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: list[str] | None = None) -> pd.DataFrame:
+    """One row per run: cost, field errors against ``reference`` at the last
+    output time both hold, and the scene's measured quantities."""
+    names = names or [f"run{i}" for i in range(len(runs))]
+    check_same_scene(runs, names)
+    rows = []
+    for ds, name in zip(runs, names):
+        row = {"run": name, "method": ds.attrs["method"], "scheme": ds.attrs["scheme"]}
+        row.update({k: ds.attrs[k] for k in COST_ATTRS})
+        row["status"] = ds.attrs.get("status", "ok")
+        if reference is not None:
+            common = np.intersect1d(np.round(ds.time.values, 12), np.round(reference.time.values, 12))
+            if common.size:
+                t = common[-1]
+                for field in (f for f in FIELDS if f in ds and f in reference):
+                    a = ds[field].sel(time=t, method="nearest")
+                    b = reference[field].sel(time=t, method="nearest")
+                    for norm in NORMS:
+                        row[f"{field}_{norm}"] = field_error(a, b, norm=norm)
+                row["error_time"] = float(t)
+        row.update(measured(ds))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def write_table(df: pd.DataFrame, folder: str | Path) -> Path:
+    """Write ``summary.csv`` and ``summary.json`` into ``folder``."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    df.to_csv(folder / "summary.csv", index=False)
+    (folder / "summary.json").write_text(json.dumps(df.to_dict(orient="records"), indent=2, default=float))
+    return folder

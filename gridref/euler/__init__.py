@@ -1,0 +1,6 @@
+"""Finite-volume Euler solver: unsplit MUSCL–Hancock with swappable Riemann
+solvers and limiters, ghost-cell immersed boundaries (SPEC §3.4)."""
+
+from gridref.euler.solve import solve
+
+__all__ = ["solve"]

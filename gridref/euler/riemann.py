@@ -1,0 +1,80 @@
+"""Approximate Riemann solvers: the numerical flux through a face from the
+primitive states on its left (``WL``) and right (``WR``), both given in the
+face's normal frame ``(rho, u_n, u_t..., p)`` (see ``state.rotated``).
+
+Every solver has the signature ``flux(WL, WR, gamma) -> F`` (a tuple in the
+same frame), so they are interchangeable (``RIEMANN_SOLVERS``).
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from gridref.euler.state import conservative, normal_flux
+
+
+def einfeldt_speeds(WL, WR, gamma):
+    """Signal speeds ``(S_L, S_R)`` of Einfeldt (1988), HLLE: the extremes of
+    the one-sided speeds ``u ∓ c`` and the Roe-averaged ``ũ ∓ c̃`` (Toro 2009
+    eq. 10.52), which keep HLL positively conservative."""
+    rL, rR, pL, pR = WL[0], WR[0], WL[-1], WR[-1]
+    cL2, cR2 = gamma * pL / rL, gamma * pR / rR
+    sL, sR = jnp.sqrt(rL), jnp.sqrt(rR)
+    wL = sL / (sL + sR)
+    wR = 1.0 - wL
+    vel = [wL * a + wR * b for a, b in zip(WL[1:-1], WR[1:-1])]
+    kin = sum(wL * a * a + wR * b * b for a, b in zip(WL[1:-1], WR[1:-1]))
+    # Roe-averaged c̃² = (γ−1)(H̃ − |ũ|²/2) with H = c²/(γ−1) + |u|²/2
+    c2 = wL * cL2 + wR * cR2 + 0.5 * (gamma - 1.0) * (kin - sum(c * c for c in vel))
+    c = jnp.sqrt(jnp.maximum(c2, 0.0))
+    return (jnp.minimum(WL[1] - jnp.sqrt(cL2), vel[0] - c), jnp.maximum(WR[1] + jnp.sqrt(cR2), vel[0] + c))
+
+
+def hllc(WL, WR, gamma):
+    """HLLC flux (Toro, Spruce & Speares 1994; Toro 2009 §10.4):
+    ``S* = [p_R − p_L + ρ_L u_L(S_L − u_L) − ρ_R u_R(S_R − u_R)] /
+    [ρ_L(S_L − u_L) − ρ_R(S_R − u_R)]``, ``F = F_K + S_K (U*_K − U_K)`` on
+    the side ``K`` of the contact that holds the face, with the outer speed
+    clipped at zero so the supersonic cases reduce to ``F_L``/``F_R``."""
+    SL, SR = einfeldt_speeds(WL, WR, gamma)
+    mL, mR = WL[0] * (SL - WL[1]), WR[0] * (SR - WR[1])
+    S_star = (WR[-1] - WL[-1] + WL[1] * mL - WR[1] * mR) / (mL - mR)
+    left = S_star >= 0.0
+    W = tuple(jnp.where(left, a, b) for a, b in zip(WL, WR))
+    SK = jnp.where(left, SL, SR)
+    S = jnp.where(left, jnp.minimum(SL, 0.0), jnp.maximum(SR, 0.0))
+    rho, un, p = W[0], W[1], W[-1]
+    U = conservative(W, gamma)
+    F = normal_flux(W, gamma)
+    rho_star = rho * (SK - un) / (SK - S_star)
+    E_star = rho_star * (U[-1] / rho + (S_star - un) * (S_star + p / (rho * (SK - un))))
+    U_star = (rho_star, rho_star * S_star, *(rho_star * c for c in W[2:-1]), E_star)
+    return tuple(f + S * (us - u) for f, us, u in zip(F, U_star, U))
+
+
+def hll(WL, WR, gamma):
+    """HLL flux (Harten, Lax & van Leer 1983) with Einfeldt speeds:
+    ``F = (S_R⁺ F_L − S_L⁻ F_R + S_L⁻ S_R⁺ (U_R − U_L)) / (S_R⁺ − S_L⁻)``."""
+    SL, SR = einfeldt_speeds(WL, WR, gamma)
+    SL, SR = jnp.minimum(SL, 0.0), jnp.maximum(SR, 0.0)
+    inv = 1.0 / (SR - SL)
+    return tuple(
+        (SR * fl - SL * fr + SL * SR * (ur - ul)) * inv
+        for fl, fr, ul, ur in zip(normal_flux(WL, gamma), normal_flux(WR, gamma),
+                                  conservative(WL, gamma), conservative(WR, gamma))
+    )
+
+
+def rusanov(WL, WR, gamma):
+    """Rusanov (local Lax–Friedrichs) flux:
+    ``F = ½(F_L + F_R) − ½ S_max (U_R − U_L)``, ``S_max = max(|u_L|+c_L, |u_R|+c_R)``."""
+    smax = jnp.maximum(jnp.abs(WL[1]) + jnp.sqrt(gamma * WL[-1] / WL[0]),
+                       jnp.abs(WR[1]) + jnp.sqrt(gamma * WR[-1] / WR[0]))
+    return tuple(
+        0.5 * (fl + fr) - 0.5 * smax * (ur - ul)
+        for fl, fr, ul, ur in zip(normal_flux(WL, gamma), normal_flux(WR, gamma),
+                                  conservative(WL, gamma), conservative(WR, gamma))
+    )
+
+
+RIEMANN_SOLVERS = {"hllc": hllc, "hll": hll, "rusanov": rusanov}

@@ -1,0 +1,64 @@
+"""Helpers around :class:`jax_cfd.base.grids.Grid`: the solver grid of a
+scene at a requested cell size."""
+
+from __future__ import annotations
+
+import numpy as np
+from jax_cfd.base import grids
+
+from cases.checks import InputError
+
+
+def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Grid:
+    """A uniform cell-centred grid over ``domain`` with square cells of size
+    ``dx``; each extent must hold a whole number of cells (to 1e-6)."""
+    shape = []
+    for axis, (lo, hi) in zip("xy", domain):
+        n = (hi - lo) / dx
+        if abs(n - round(n)) > 1e-6 * n or round(n) < 1:
+            raise InputError(
+                f"dx = {dx:g} m does not divide the domain extent along {axis} ({hi - lo:g} m) into whole cells."
+            )
+        shape.append(int(round(n)))
+    return grids.Grid(tuple(shape), domain=tuple(domain))
+
+
+def cell_centres(grid: grids.Grid) -> list[np.ndarray]:
+    """Cell-centre coordinates along each axis (x first)."""
+    return [np.asarray(a) for a in grid.axes()]
+
+
+def mesh(grid: grids.Grid) -> tuple[np.ndarray, np.ndarray | None]:
+    """Cell-centre coordinate arrays in the field layout ``([y,] x)``:
+    ``(X, Y)`` in 2D, ``(x, None)`` in 1D."""
+    axes = cell_centres(grid)
+    if len(axes) == 1:
+        return axes[0], None
+    Y, X = np.meshgrid(axes[1], axes[0], indexing="ij")
+    return X, Y
+
+
+def bilinear_stencil(grid: grids.Grid, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Flat indices ``(n, 2**dim)`` into the field layout ``([y,] x)`` and the
+    (bi)linear interpolation weights of the cell centres around each of the
+    ``points`` ``(n, dim)``; points beyond the outermost centres take the
+    edge value (clamped)."""
+    points = np.atleast_2d(np.asarray(points, float))
+    axes = cell_centres(grid)
+    lower, frac = [], []
+    for d, centres in enumerate(axes):
+        s = (points[:, d] - centres[0]) / grid.step[d]
+        s = np.clip(s, 0.0, len(centres) - 1)
+        i = np.minimum(np.floor(s).astype(int), max(len(centres) - 2, 0))
+        lower.append(i)
+        frac.append(s - i)
+    if len(axes) == 1:
+        idx = np.stack([lower[0], np.minimum(lower[0] + 1, grid.shape[0] - 1)], axis=1)
+        w = np.stack([1 - frac[0], frac[0]], axis=1)
+        return idx, w
+    nx = grid.shape[0]
+    i, j, fx, fy = lower[0], lower[1], frac[0], frac[1]
+    i1, j1 = np.minimum(i + 1, grid.shape[0] - 1), np.minimum(j + 1, grid.shape[1] - 1)
+    idx = np.stack([j * nx + i, j * nx + i1, j1 * nx + i, j1 * nx + i1], axis=1)
+    w = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)
+    return idx, w
