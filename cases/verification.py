@@ -206,7 +206,7 @@ def noh(gamma=5.0 / 3.0, rho0=1.0, u0=1.0, p0=1e-6, t_end=0.6, n_out=200):
         boundaries={"x_lo": "reflect", "x_hi": "outflow", "y_lo": "reflect", "y_hi": "outflow"},
         output=output, dx=1.0 / n_out, t_end=t_end, probes=(Probe("diag", 0.1, 0.1),),
         fields=("rho", "u", "v", "p", "e"),
-        exact_solution=lambda times: exact.noh(output.x, output.y, times, gamma=gamma, rho0=rho0, u0=u0, case="noh"),
+        exact_solution=lambda times: exact.noh(output.x, output.y, times, gamma=gamma, rho0=rho0, u0=u0, p0=p0, case="noh"),
         description="Converging cold gas; post-shock density 16 (gamma 5/3), shock speed 1/3.",
     )
 

@@ -89,7 +89,8 @@ def test_sampled_solution_conserves_mass_momentum_energy(left, right):
 
 def test_vacuum_generated_in_the_middle():
     left, right = VACUUM_GENERATED
-    front = 4.0 - 2.0 * sound(left) / (GAMMA - 1.0)  # -(u_L + 2 a_L/(gamma - 1)) = u_R - 2 a_R/(gamma - 1)
+    # the vacuum fronts (Toro §4.6): u_L + 2 a_L/(gamma-1) = -front, u_R - 2 a_R/(gamma-1) = front
+    front = 4.0 - 2.0 * sound(left) / (GAMMA - 1.0)
     assert front > 0.0
     p_star, u_star = star_state(left, right, GAMMA)
     assert p_star == 0.0 and np.isnan(u_star)
@@ -156,6 +157,25 @@ def test_mirror_symmetry(left, right):
     np.testing.assert_allclose(rho_m, rho, rtol=1e-10, atol=1e-14)
     np.testing.assert_allclose(-u_m, u, rtol=1e-10, atol=1e-10)
     np.testing.assert_allclose(p_m, p, rtol=1e-10, atol=1e-14)
+
+
+wide_state = st.tuples(st.floats(1e-6, 1e6), st.floats(-50.0, 50.0), st.floats(1e-8, 1e8))
+
+
+@settings(max_examples=100, deadline=None)
+@given(left=wide_state, right=wide_state, gamma=st.floats(1.01, 3.0))
+def test_extreme_states_give_a_converged_physical_solution(left, right, gamma):
+    """Density ratios up to 1e12 and pressure ratios up to 1e16: p* is the root of
+    the pressure function to its round-off, and the sampled solution is finite."""
+    p_star, u_star = star_state(left, right, gamma)
+    xi = np.linspace(-1e4, 1e4, 4001) + 0.012345678
+    rho, u, p = sample(left, right, gamma, xi)
+    assert np.all(np.isfinite(rho) & np.isfinite(u) & np.isfinite(p))
+    assert np.all(rho >= 0.0) and np.all(p >= 0.0)
+    if p_star > 0.0:  # no vacuum: the gas on both sides of the contact is at p*, moving at u*
+        _, u_c, p_c = sample(left, right, gamma, np.array([u_star, np.nextafter(u_star, np.inf)]))
+        assert p_c == pytest.approx([p_star, p_star], rel=1e-12)
+        assert u_c == pytest.approx([u_star, u_star], rel=1e-12, abs=1e-12)
 
 
 def test_riemann_dataset_follows_the_schema():

@@ -30,7 +30,7 @@ def test_cylindrical_and_planar_alpha_match_kamm_timmes_to_their_accuracy():
 
 
 def test_spherical_alpha_for_monatomic_gas():
-    # R = xi0 (E t^2/rho0)^(1/5) with xi0 = 1.15167 for gamma = 5/3 (e.g. Draine 2011, eq. 39.5)
+    # R = xi0 (E t^2/rho0)^(1/5) with xi0 = 1.15167 for gamma = 5/3 (Ostriker & McKee 1988; Draine 2011)
     assert sedov_alpha(5.0 / 3.0, "spherical") == pytest.approx(1.15167**-5, rel=2e-5)
 
 

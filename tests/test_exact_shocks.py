@@ -58,8 +58,8 @@ def test_reflected_over_incident_pressure_strong_shock_limit(gamma):
 @pytest.mark.parametrize("Ms", MACHS)
 def test_reflection_coefficient_is_independent_of_the_ambient_state(Ms):
     shock = reflected_shock(Ms, RHO0, P0)
-    assert (shock["p_reflected"] - P0) / (shock["p_incident"] - P0) == pytest.approx(reflection_coefficient(Ms),
-                                                                                     rel=1e-9)
+    c_r = (shock["p_reflected"] - P0) / (shock["p_incident"] - P0)
+    assert c_r == pytest.approx(reflection_coefficient(Ms), rel=1e-9)
 
 
 @pytest.mark.parametrize("Ms", MACHS)
@@ -88,8 +88,10 @@ def test_gas_behind_reflected_shock_is_at_rest_by_the_riemann_solver(Ms):
 
 
 def _theta_of_beta(M1, beta, gamma=GAMMA):
+    """tan theta = 2 cot beta (M1^2 sin^2 beta - 1)/(M1^2 (gamma + cos 2 beta) + 2), theta in degrees."""
     m2 = M1**2
-    return np.degrees(np.arctan(2 / np.tan(beta) * (m2 * np.sin(beta) ** 2 - 1) / (m2 * (gamma + np.cos(2 * beta)) + 2)))
+    tan_theta = 2 / np.tan(beta) * (m2 * np.sin(beta) ** 2 - 1) / (m2 * (gamma + np.cos(2 * beta)) + 2)
+    return np.degrees(np.arctan(tan_theta))
 
 
 def _brute_force(M1, theta_deg, branch):
@@ -111,7 +113,7 @@ def test_theta_beta_mach_at_mach_3_5_against_a_brute_force_scan(theta, branch):
 
 
 def test_theta_beta_mach_textbook_value_and_limits():
-    assert theta_beta_mach(2.0, 10.0) == pytest.approx(39.31, abs=0.005)  # Anderson, Fig. 4.9 / NACA 1135
+    assert theta_beta_mach(2.0, 10.0) == pytest.approx(39.31, abs=0.005)  # textbook value (Anderson ch. 4)
     for M1 in (1.5, 3.5, 8.0):
         assert theta_beta_mach(M1, 1e-9) == pytest.approx(np.degrees(np.arcsin(1 / M1)), abs=1e-6)
         assert theta_beta_mach(M1, 0.0, branch="strong") == pytest.approx(90.0, abs=1e-9)
@@ -126,7 +128,7 @@ def test_max_deflection_against_a_brute_force_scan(M1):
 
 
 def test_max_deflection_textbook_value_and_detachment():
-    assert max_deflection(2.0) == pytest.approx(22.97, abs=0.005)  # NACA Report 1135, chart 2
+    assert max_deflection(2.0) == pytest.approx(22.97, abs=0.005)  # textbook value (NACA Report 1135 charts)
     with pytest.raises(ValueError, match="detaches") as err:
         theta_beta_mach(3.5, 40.0)
     assert f"{max_deflection(3.5):.2f}" in str(err.value)

@@ -54,10 +54,10 @@ def axis(name: str, values) -> np.ndarray:
 def output_times(times, *, allow_zero: bool = True) -> np.ndarray:
     """A 1D, finite, strictly increasing array of output times, all >= 0 (> 0 if not ``allow_zero``)."""
     times = np.atleast_1d(np.asarray(times, dtype=float))
-    bound = "0" if allow_zero else "0 (exclusive)"
     if (times.ndim != 1 or times.size == 0 or not np.all(np.isfinite(times))
             or np.any(np.diff(times) <= 0) or np.any(times < 0) or (not allow_zero and np.any(times == 0))):
-        raise ValueError(f"times must be a non-empty, finite, strictly increasing 1D array of values >= {bound}.")
+        raise ValueError("times must be a non-empty, finite, strictly increasing 1D array of values "
+                         f"{'>=' if allow_zero else '>'} 0.")
     return times
 
 

@@ -2,7 +2,7 @@
 
 Reference: W. F. Noh, "Errors for calculations of strong shocks using an
 artificial viscosity and an artificial heat flux", J. Comput. Phys. 72,
-78-120 (1987), §4-6. Gas of density rho0 moves toward the centre at speed
+78-120 (1987). Gas of density rho0 moves toward the centre at speed
 u0 with zero pressure; a shock reflects from the centre and moves out at
 D = (gamma - 1) u0/2. Behind it the gas is at rest with
 rho = rho0 ((gamma+1)/(gamma-1))^j and e = u0^2/2, so
@@ -15,7 +15,9 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from compare.exact._inputs import axis, geometry_index, internal_energy, non_negative, output_times, positive, ratio_of_heats
+from compare.exact._inputs import (
+    axis, geometry_index, internal_energy, non_negative, output_times, positive, ratio_of_heats,
+)
 from compare.schema import result
 
 

@@ -1,11 +1,11 @@
 """Exact Riemann solver for the 1D Euler equations of an ideal gas, vacuum included.
 
 Reference: E. F. Toro, *Riemann Solvers and Numerical Methods for Fluid
-Dynamics*, 3rd ed., Springer 2009, chapter 4: the pressure function (§4.2,
-eqs. 4.5-4.7), the Newton iteration and its initial guesses (§4.3), the
-sampling of the self-similar solution (§4.5, Fig. 4.14) and the vacuum cases
-(§4.6: vacuum initially on the right, on the left, and generated in the
-middle when the pressure-positivity condition 4.40 is violated).
+Dynamics*, 3rd ed., Springer 2009, chapter 4: the pressure function (§4.2),
+the Newton iteration and its initial guesses (§4.3), the sampling of the
+self-similar solution (§4.5) and the vacuum cases (§4.6: vacuum initially on
+the right, on the left, and generated in the middle when the
+pressure-positivity condition u_R - u_L < 2 (a_L + a_R)/(gamma - 1) fails).
 
 States are ``(rho, u, p)`` tuples. A vacuum state is ``rho = p = 0`` (its
 velocity is ignored). In a vacuum region of the solution the velocity is
@@ -41,7 +41,7 @@ def _state(name: str, state) -> tuple[float, float, float]:
 
 
 def _pressure_function(p, rho_k, p_k, gamma):
-    """Toro eqs. 4.6-4.7 and their derivative: f_K(p) and f_K'(p) for one side."""
+    """f_K(p) and f_K'(p) for one side (Toro §4.2)."""
     a_k = np.sqrt(gamma * p_k / rho_k)
     if p > p_k:  # shock
         a_coef = 2.0 / ((gamma + 1.0) * rho_k)
@@ -55,9 +55,9 @@ def _pressure_function(p, rho_k, p_k, gamma):
 
 
 def _initial_guess(left, right, gamma):
-    """Toro §4.3.2 (subroutine GUESSP): PVRS where the pressure ratio is small
-    and the PVRS value lies between the data, else the two-rarefaction (TRRS,
-    eq. 4.46) or two-shock (TSRS, eq. 4.47) approximation."""
+    """Toro §4.3 (subroutine GUESSP): PVRS where the pressure ratio is small
+    and the PVRS value lies between the data, else the two-rarefaction (TRRS)
+    or two-shock (TSRS) approximation."""
     (rho_l, u_l, p_l), (rho_r, u_r, p_r) = left, right
     a_l, a_r = np.sqrt(gamma * p_l / rho_l), np.sqrt(gamma * p_r / rho_r)
     p_pv = max(0.0, 0.5 * (p_l + p_r) - 0.125 * (u_r - u_l) * (rho_l + rho_r) * (a_l + a_r))
@@ -73,7 +73,7 @@ def _initial_guess(left, right, gamma):
 
 
 def _newton(left, right, gamma):
-    """p* and u* of a problem without vacuum (Toro eqs. 4.5, 4.9), Newton to RTOL."""
+    """p* and u* of a problem without vacuum (Toro §4.2-4.3), by Newton iteration."""
     (rho_l, u_l, p_l), (rho_r, u_r, p_r) = left, right
     p = _initial_guess(left, right, gamma)
     sound_scale = 2.0 * (np.sqrt(gamma * p_l / rho_l) + np.sqrt(gamma * p_r / rho_r)) / (gamma - 1.0)
@@ -81,19 +81,15 @@ def _newton(left, right, gamma):
         f_l, df_l = _pressure_function(p, rho_l, p_l, gamma)
         f_r, df_r = _pressure_function(p, rho_r, p_r, gamma)
         residual = f_l + f_r + u_r - u_l
+        step = residual / (df_l + df_r)
         # f sums terms of size |f_K|, 2 a_K/(gamma-1), |u_L| and |u_R| that may nearly cancel:
         # a residual at their round-off level is as converged as p* can be in double precision
-        if abs(residual) <= 8.0 * np.finfo(float).eps * (abs(f_l) + abs(f_r) + abs(u_l) + abs(u_r) + sound_scale):
+        at_round_off = abs(residual) <= 8.0 * np.finfo(float).eps * (
+            abs(f_l) + abs(f_r) + abs(u_l) + abs(u_r) + sound_scale)
+        if at_round_off or abs(step) <= RTOL * p:
             return p, 0.5 * (u_l + u_r) + 0.5 * (f_r - f_l)
-        p_new = p - residual / (df_l + df_r)
-        if p_new <= 0.0:  # overshoot below zero: f is increasing and concave, so restart from below the root
-            p_new = 1e-6 * p
-        converged = 2.0 * abs(p_new - p) / (p_new + p) <= RTOL
-        p = p_new
-        if converged:
-            f_l = _pressure_function(p, rho_l, p_l, gamma)[0]
-            f_r = _pressure_function(p, rho_r, p_r, gamma)[0]
-            return p, 0.5 * (u_l + u_r) + 0.5 * (f_r - f_l)
+        # f is increasing and concave: a step below zero restarts from below the root
+        p = p - step if p - step > 0.0 else 1e-6 * p
     raise RuntimeError(f"the Newton iteration for p* did not converge in {MAX_ITERATIONS} iterations.")
 
 
@@ -103,14 +99,14 @@ def _solve(left, right, gamma):
     (rho_l, u_l, p_l), (rho_r, u_r, p_r) = left, right
     if rho_l == 0.0 and rho_r == 0.0:
         raise ValueError("left and right cannot both be vacuum (rho = p = 0): there is no gas to solve for.")
-    if rho_r == 0.0:  # Toro §4.6.1: left rarefaction into vacuum, front at u_L + 2 a_L/(gamma - 1)
+    if rho_r == 0.0:  # Toro §4.6, right vacuum: left rarefaction into vacuum, front at u_L + 2 a_L/(gamma - 1)
         front = u_l + 2.0 * np.sqrt(gamma * p_l / rho_l) / (gamma - 1.0)
         return 0.0, front, front, np.inf
-    if rho_l == 0.0:  # Toro §4.6.2
+    if rho_l == 0.0:  # Toro §4.6, left vacuum
         front = u_r - 2.0 * np.sqrt(gamma * p_r / rho_r) / (gamma - 1.0)
         return 0.0, front, -np.inf, front
     a_l, a_r = np.sqrt(gamma * p_l / rho_l), np.sqrt(gamma * p_r / rho_r)
-    if 2.0 * (a_l + a_r) / (gamma - 1.0) <= u_r - u_l:  # Toro §4.6.3, condition 4.40 violated
+    if 2.0 * (a_l + a_r) / (gamma - 1.0) <= u_r - u_l:  # Toro §4.6, pressure positivity violated
         front_l, front_r = u_l + 2.0 * a_l / (gamma - 1.0), u_r - 2.0 * a_r / (gamma - 1.0)
         return 0.0, (front_l if front_l == front_r else np.nan), front_l, front_r
     p_star, u_star = _newton(left, right, gamma)
@@ -121,19 +117,18 @@ def star_state(left, right, gamma: float = 1.4) -> tuple[float, float]:
     """Pressure p* and velocity u* of the star region (Toro 2009, ch. 4).
 
     p* is the root of f(p) = f_L(p, W_L) + f_R(p, W_R) + u_R - u_L = 0
-    (eq. 4.5), with f_K(p) = (p - p_K) sqrt(A_K/(p + B_K)) for a shock
+    (Toro §4.2), with f_K(p) = (p - p_K) sqrt(A_K/(p + B_K)) for a shock
     (p > p_K; A_K = 2/((gamma+1) rho_K), B_K = (gamma-1)/(gamma+1) p_K) and
     f_K(p) = 2 a_K/(gamma-1) [(p/p_K)^((gamma-1)/(2 gamma)) - 1] for a
-    rarefaction (eqs. 4.6-4.7); u* = (u_L + u_R)/2 + (f_R(p*) - f_L(p*))/2
-    (eq. 4.9). Newton iteration from Toro's adaptive PVRS/TRRS/TSRS guess
-    (§4.3.2), stopped when the relative change of p* is below 1e-14 or, where
-    the terms of f nearly cancel and 1e-14 is beyond double precision, when
-    f(p*) is at the round-off level of its terms.
+    rarefaction; u* = (u_L + u_R)/2 + (f_R(p*) - f_L(p*))/2. Newton iteration
+    from Toro's adaptive PVRS/TRRS/TSRS guess (§4.3), stopped when the Newton
+    step is below 1e-14 p* or, where the terms of f nearly cancel and 1e-14 is
+    beyond double precision, when f(p*) is at the round-off level of its terms.
 
     Vacuum (Toro §4.6): p* = 0. With vacuum on one side u* is the speed of
     the gas-vacuum front (u_L + 2 a_L/(gamma-1) or u_R - 2 a_R/(gamma-1)).
-    When vacuum is generated in the middle (u_R - u_L >= 2 (a_L + a_R)/(gamma-1),
-    eq. 4.40 violated) there is no single contact speed and u* is NaN.
+    When vacuum is generated in the middle (u_R - u_L >= 2 (a_L + a_R)/(gamma-1))
+    there is no single contact speed and u* is NaN.
 
     ``left`` and ``right`` are (rho, u, p) tuples; ``gamma`` > 1.
     """
@@ -143,8 +138,7 @@ def star_state(left, right, gamma: float = 1.4) -> tuple[float, float]:
 
 
 def _left_wave(state, p_star, u_star, gamma, xi):
-    """Solution left of the contact (xi <= u*): Toro §4.5.1 (shock, eqs. 4.50-4.52;
-    rarefaction, eqs. 4.53-4.56)."""
+    """Solution left of the contact (xi <= u*), Toro §4.5: a shock or a rarefaction fan."""
     rho, u, p = state
     a = np.sqrt(gamma * p / rho)
     g1 = (gamma - 1.0) / (gamma + 1.0)
@@ -155,7 +149,7 @@ def _left_wave(state, p_star, u_star, gamma, xi):
         return np.where(behind, rho_star, rho), np.where(behind, u_star, u), np.where(behind, p_star, p)
     rho_star = rho * (p_star / p) ** (1.0 / gamma)
     tail = u_star - a * (p_star / p) ** ((gamma - 1.0) / (2.0 * gamma))
-    base = np.maximum(2.0 / (gamma + 1.0) + g1 / a * (u - xi), 0.0)
+    base = np.clip(2.0 / (gamma + 1.0) + g1 / a * (u - xi), 0.0, 1.0)  # in [0, 1] inside the fan
     fan = (rho * base ** (2.0 / (gamma - 1.0)),
            2.0 / (gamma + 1.0) * (a + 0.5 * (gamma - 1.0) * u + xi),
            p * base ** (2.0 * gamma / (gamma - 1.0)))
@@ -170,11 +164,11 @@ def sample(left, right, gamma: float, xi) -> tuple[np.ndarray, np.ndarray, np.nd
     Left of the contact (xi <= u*): W_L ahead of the left wave, the star
     state behind it; a left shock moves at S_L = u_L - a_L sqrt((gamma+1)/(2 gamma)
     p*/p_L + (gamma-1)/(2 gamma)) with rho*_L = rho_L (p*/p_L + g)/(g p*/p_L + 1),
-    g = (gamma-1)/(gamma+1) (eqs. 4.50-4.52); a left rarefaction spans
+    g = (gamma-1)/(gamma+1); a left rarefaction spans
     u_L - a_L < xi < u* - a*_L with rho*_L = rho_L (p*/p_L)^(1/gamma) and the fan
     rho = rho_L [2/(gamma+1) + g/a_L (u_L - xi)]^(2/(gamma-1)),
     u = 2/(gamma+1) [a_L + (gamma-1)/2 u_L + xi],
-    p = p_L [2/(gamma+1) + g/a_L (u_L - xi)]^(2 gamma/(gamma-1)) (eq. 4.56).
+    p = p_L [2/(gamma+1) + g/a_L (u_L - xi)]^(2 gamma/(gamma-1)).
     The right side is the mirror image (x -> -x). Vacuum regions (Toro §4.6)
     have rho = p = 0 and u = xi. Vectorised over ``xi`` (any shape).
     """

@@ -2,10 +2,11 @@
 the Friedlander blast profile and the Rankine-Hugoniot blast inflow state.
 
 References: J. D. Anderson, *Modern Compressible Flow*, 3rd ed., McGraw-Hill
-2003 (moving normal shocks §7.2, eqs. 7.10-7.16; reflected shock §7.4,
-eq. 7.23; oblique shocks §4.3, eq. 4.17); E. F. Toro, *Riemann Solvers and
-Numerical Methods for Fluid Dynamics*, 3rd ed., Springer 2009, §3.1.3;
-G. F. Kinney & K. J. Graham, *Explosive Shocks in Air*, 2nd ed., Springer
+2003 (ch. 7, moving and reflected normal shocks; ch. 4, oblique shocks and
+the theta-beta-M relation); Ames Research Staff, "Equations, tables, and
+charts for compressible flow", NACA Report 1135 (1953); E. F. Toro, *Riemann
+Solvers and Numerical Methods for Fluid Dynamics*, 3rd ed., Springer 2009,
+ch. 3 (Rankine-Hugoniot conditions); G. F. Kinney & K. J. Graham, *Explosive Shocks in Air*, 2nd ed., Springer
 1985 (the Friedlander waveform).
 """
 
@@ -47,7 +48,7 @@ def normal_shock(Ms, rho0, p0, gamma: float = 1.4):
     """State (rho1, u1, p1) behind a normal shock moving at Mach ``Ms`` into gas at rest.
 
     Lab frame, shock moving in +x at W = Ms a0, a0 = sqrt(gamma p0/rho0)
-    (Anderson, Modern Compressible Flow, §7.2, eqs. 7.10-7.16):
+    (Anderson, Modern Compressible Flow, ch. 7):
     p1/p0 = 1 + 2 gamma/(gamma+1) (Ms^2 - 1),
     rho1/rho0 = (gamma+1) Ms^2 / ((gamma-1) Ms^2 + 2),
     u1 = 2 a0/(gamma+1) (Ms - 1/Ms)  (the induced gas velocity, in +x).
@@ -67,10 +68,10 @@ def reflected_shock(Ms, rho0, p0, gamma: float = 1.4) -> dict:
     the wall; the reflected shock brings the gas to rest (u_r = 0). Its Mach
     number Mr relative to the gas of state 1 solves
     u1 = 2 a1/(gamma+1) (Mr - 1/Mr), i.e. Mr = (k + sqrt(k^2 + 4))/2 with
-    k = (gamma+1) u1/(2 a1), which is Anderson's eq. 7.23,
+    k = (gamma+1) u1/(2 a1), which is Anderson's (ch. 7) relation
     Mr/(Mr^2-1) = Ms/(Ms^2-1) sqrt(1 + 2(gamma-1)/(gamma+1)^2 (Ms^2-1)(gamma + 1/Ms^2)),
     in closed form. Then p_r = p1 [1 + 2 gamma/(gamma+1)(Mr^2 - 1)] and
-    rho_r = rho1 (gamma+1) Mr^2/((gamma-1) Mr^2 + 2) (Anderson §7.4).
+    rho_r = rho1 (gamma+1) Mr^2/((gamma-1) Mr^2 + 2) (Anderson ch. 7).
 
     Returns a dict with ``p_incident`` (p1), ``p_reflected``, ``rho_reflected``,
     ``reflected_shock_speed`` (lab frame, > 0 = moving away from the wall:
@@ -95,7 +96,7 @@ def reflection_coefficient(Ms, gamma: float = 1.4):
     """C_R = (p_r - p0)/(p_i - p0), the reflected over the incident overpressure.
 
     From the relations of :func:`reflected_shock` (Anderson, Modern Compressible
-    Flow, §7.4). With c = 2 gamma/(gamma+1), p_i/p0 = 1 + c (Ms^2 - 1),
+    Flow, ch. 7). With c = 2 gamma/(gamma+1), p_i/p0 = 1 + c (Ms^2 - 1),
     p_r/p_i = 1 + c (Mr^2 - 1) and Mr^2 - 1 = k Mr = (a0/a1)(Mr/Ms)(Ms^2 - 1),
     C_R = 1 + (a0/a1) (Mr/Ms) (p_i/p0), a form without the 0/0 of the
     definition at Ms = 1. It depends on Ms and gamma only. Limits: C_R -> 2 as
@@ -103,19 +104,20 @@ def reflection_coefficient(Ms, gamma: float = 1.4):
     Ms -> infinity. Vectorised over ``Ms`` (>= 1).
     """
     gamma = ratio_of_heats(gamma)
-    rho1, _, p1 = normal_shock(Ms, 1.0, 1.0, gamma)
-    sound_ratio = np.sqrt(rho1 / p1)  # a0/a1 with rho0 = p0 = 1
-    return (1.0 + sound_ratio * reflected_shock(Ms, 1.0, 1.0, gamma)["Mr"] / np.asarray(Ms, float) * p1)[()]
+    Ms = _mach("Ms", Ms)
+    rho1, _, p1 = normal_shock(Ms, 1.0, 1.0, gamma)  # rho0 = p0 = 1, so a0/a1 = sqrt(rho1/p1)
+    Mr = reflected_shock(Ms, 1.0, 1.0, gamma)["Mr"]
+    return 1.0 + np.sqrt(rho1 / p1) * Mr / Ms * p1
 
 
 def _deflection(M1, beta, gamma):
-    """theta(beta) [rad] of the theta-beta-M relation (Anderson eq. 4.17)."""
+    """theta(beta) [rad] of the theta-beta-M relation (Anderson ch. 4)."""
     m2 = M1 * M1
     return np.arctan(2.0 / np.tan(beta) * (m2 * np.sin(beta) ** 2 - 1.0) / (m2 * (gamma + np.cos(2.0 * beta)) + 2.0))
 
 
 def _beta_at_max_deflection(M1, gamma):
-    """Shock angle [rad] of the largest deflection (NACA Report 1135, eq. 168)."""
+    """Shock angle [rad] of the largest deflection (NACA Report 1135)."""
     m2 = M1 * M1
     sin2 = ((gamma + 1.0) / 4.0 * m2 - 1.0
             + np.sqrt((gamma + 1.0) * ((gamma + 1.0) / 16.0 * m2 * m2 + (gamma - 1.0) / 2.0 * m2 + 1.0))) / (gamma * m2)
@@ -125,9 +127,9 @@ def _beta_at_max_deflection(M1, gamma):
 def max_deflection(M1, gamma: float = 1.4):
     """Largest flow deflection theta_max [deg] an attached oblique shock can turn at Mach ``M1``.
 
-    theta_max = theta(beta_max) of the theta-beta-M relation (Anderson eq. 4.17),
+    theta_max = theta(beta_max) of the theta-beta-M relation (Anderson ch. 4),
     with sin^2 beta_max = [(gamma+1) M1^2/4 - 1 + sqrt((gamma+1)((gamma+1) M1^4/16
-    + (gamma-1) M1^2/2 + 1))]/(gamma M1^2) (NACA Report 1135, eq. 168).
+    + (gamma-1) M1^2/2 + 1))]/(gamma M1^2) (NACA Report 1135).
     Vectorised over ``M1`` (> 1).
     """
     gamma = ratio_of_heats(gamma)
@@ -138,7 +140,7 @@ def max_deflection(M1, gamma: float = 1.4):
 def theta_beta_mach(M1, theta_deg, gamma: float = 1.4, branch: str = "weak"):
     """Oblique-shock angle beta [deg] for Mach ``M1`` and deflection ``theta_deg``.
 
-    Solves the theta-beta-M relation (Anderson, Modern Compressible Flow, eq. 4.17)
+    Solves the theta-beta-M relation (Anderson, Modern Compressible Flow, ch. 4)
     tan theta = 2 cot beta (M1^2 sin^2 beta - 1) / (M1^2 (gamma + cos 2 beta) + 2)
     for beta in (asin(1/M1), beta_max] (``branch="weak"``) or [beta_max, 90 deg]
     (``"strong"``), where theta(beta) increases, resp. decreases, monotonically;
@@ -201,7 +203,7 @@ def rankine_hugoniot_inflow(p_over, rho0, p0, gamma: float = 1.4):
     """Gas state (rho, u, p) behind a shock of overpressure ``p_over`` into gas at rest.
 
     Rankine-Hugoniot relations written with the overpressure p_o = p - p0
-    (Toro 2009 §3.1.3; Kinney & Graham 1985):
+    (Toro 2009, ch. 3; Kinney & Graham 1985):
     rho = rho0 [(gamma+1) p_o + 2 gamma p0] / [(gamma-1) p_o + 2 gamma p0],
     u = a0 (p_o/(gamma p0)) sqrt(2 gamma p0 / [(gamma+1) p_o + 2 gamma p0]),
     a0 = sqrt(gamma p0/rho0), p = p0 + p_o. Vectorised over ``p_over``. A

@@ -20,7 +20,7 @@ from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import conservative, primitive
-from gridref.euler.step import Scheme, make_stepper
+from gridref.euler.step import Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 
 #: smallest time step, relative to t_end, before a run is declared stalled
@@ -98,16 +98,14 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         return jnp.sum(p * probe_w, axis=-1)
 
     U_solid = U
-    stepper = make_stepper(
+    stepper = Stepper(
         scheme,
         fill_solids=ib.fill if ib is not None else None,
         fluid=jnp.asarray(ib.fluid) if ib is not None else None,
         reset_solids=(lambda V: ib.reset(V, U_solid)) if ib is not None else None,
         probe_sampler=probe_pressure,
     )
-    t0 = _time.perf_counter()
-    step = stepper.lower(U, 0.0, t_end, _inflow_states(scene, 0.0)).compile()
-    compile_seconds = _time.perf_counter() - t0
+    compile_seconds = stepper.compile(U, _inflow_states(scene, 0.0))
 
     solid = None if ib is None else ~ib.fluid
     out_times = [t for t in scene.output.times if t <= t_end * (1 + 1e-12)]
@@ -127,14 +125,20 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
                          compile_seconds, status="failed", failure=status_message)
 
     t_start = _time.perf_counter()
+    dt_cfl = float(stepper.initial_dt(U))
     bar = tqdm(total=t_end, disable=not progress, unit="s(sim)", desc=f"fv {scene.name}", leave=False)
     try:
         for t_out in out_times:
             while t < t_out * (1 - 1e-14):
-                U_new, dt, forces, probes = step(U, t, t_out, _inflow_states(scene, t))
-                dt = float(dt)
-                if not np.isfinite(dt) or dt < DT_FLOOR * t_end:
-                    message = _diagnose(U, gamma, grid, t, n_steps, dt, solid)
+                if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
+                    message = _diagnose(U, gamma, grid, t, n_steps, dt_cfl, solid)
+                    raise SolverFailed(message, partial=partial_result(message))
+                dt = min(dt_cfl, t_out - t)
+                U_new, dt_next, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+                dt_cfl = float(dt_next)
+                if not np.isfinite(dt_cfl):
+                    # keep the last good state for the diagnosis and the partial result
+                    message = _diagnose(U_new, gamma, grid, t + dt, n_steps + 1, dt_cfl, solid)
                     raise SolverFailed(message, partial=partial_result(message))
                 U = U_new
                 force_t.append(t + 0.5 * dt)

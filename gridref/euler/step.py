@@ -12,10 +12,17 @@ transverse Riemann solves).
 
 Sums over directions are formed before they are applied, so the update is
 exactly symmetric under exchanging x and y on a square grid.
+
+The step is a short pipeline of separately jitted kernels (ghost cells,
+slopes, predictor, one flux kernel per direction, update). Each kernel's
+outputs are materialised between kernels: as one program, XLA:CPU fuses the
+predictor into every flux consumer and recomputes it many times over (an
+order of magnitude slower, measured with ``partmesh bench``).
 """
 
 from __future__ import annotations
 
+import time as _time
 from dataclasses import dataclass
 from typing import Callable
 
@@ -60,7 +67,7 @@ def stable_dt(U, gamma, dx, cfl, fluid=None):
     reports where)."""
     W = primitive(U, gamma)
     c = sound_speed(W, gamma)
-    rate = sum((jnp.abs(W[1 + d]) + c) / dx[d] for d in range(len(dx)))
+    rate = sum((jnp.abs(W[1 + d]) + c) * (1.0 / dx[d]) for d in range(len(dx)))
     bad = ~(W[0] > 0.0) | ~(W[-1] > 0.0) | ~jnp.isfinite(rate)
     if fluid is not None:
         rate = jnp.where(fluid, rate, 0.0)
@@ -70,7 +77,7 @@ def stable_dt(U, gamma, dx, cfl, fluid=None):
 
 @dataclass(frozen=True)
 class Scheme:
-    """Settings of the MUSCL–Hancock scheme (static under ``jax.jit``)."""
+    """Settings of the MUSCL–Hancock scheme."""
 
     gamma: float
     dx: tuple[float, ...]
@@ -79,49 +86,73 @@ class Scheme:
     riemann: str = "hllc"
     cfl: float = 0.8
 
+    @property
+    def dim(self) -> int:
+        return len(self.dx)
 
-def muscl_hancock_update(U, dt, states, scheme: Scheme, fill_solids: Callable | None = None):
-    """``(U^{n+1}, side_forces)`` after one step of size ``dt``.
+    @property
+    def axes(self) -> list[int]:
+        return [axis_of(self.dim, d) for d in range(self.dim)]
 
-    ``U`` is a tuple of conservative arrays; ``states`` holds the primitive
-    inflow state of every side (rows in side order; used by ``inflow`` sides
-    only). ``side_forces[i]`` is the normal momentum flux integrated over
-    side ``i`` (per metre depth in 2D, per square metre in 1D): the
-    time-centred force the gas exerts on that side.
-    """
-    gamma, dx = scheme.gamma, scheme.dx
-    dim = len(dx)
-    limiter = LIMITERS[scheme.limiter]
-    flux = RIEMANN_SOLVERS[scheme.riemann]
-    W = primitive(U, gamma)
+
+def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):
+    """Primitive state with solid ghost cells filled and ``N_GHOST`` boundary
+    ghost layers added on every side."""
+    W = primitive(U, scheme.gamma)
     if fill_solids is not None:
         W = fill_solids(W)
-    Wg = with_ghosts(W, scheme.kinds, states)
-    axes = [axis_of(dim, d) for d in range(dim)]
-    # every cell of the interior plus one ghost layer
-    Wc = tuple(_crop(a, axes, N_GHOST - 1) for a in Wg)
-    slopes = [
+    return with_ghosts(W, scheme.kinds, states)
+
+
+def slopes_of(Wg, scheme: Scheme):
+    """Limited slopes along every direction on the interior plus one ghost
+    layer (a list over directions of tuples over variables)."""
+    axes = scheme.axes
+    limiter = LIMITERS[scheme.limiter]
+    return [
         tuple(_crop(limited_slopes(a, axes[d], limiter), [b for b in axes if b != axes[d]], N_GHOST - 1) for a in Wg)
-        for d in range(dim)
+        for d in range(scheme.dim)
     ]
-    changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(dim)]
-    Wh = tuple(w - (0.5 * dt) * sum(ch[k] / dx[d] for d, ch in enumerate(changes)) for k, w in enumerate(Wc))
-    faces_ok = True
-    for d in range(dim):
+
+
+def half_step(Wg, slopes, dt, scheme: Scheme):
+    """``(W^{n+1/2}, ok)``: the predictor on the interior plus one ghost
+    layer, and the mask of cells whose face states are physical (elsewhere
+    ``W^{n+1/2} = W`` and the slopes are to be ignored)."""
+    gamma, dx = scheme.gamma, scheme.dx
+    Wc = tuple(_crop(a, scheme.axes, N_GHOST - 1) for a in Wg)
+    changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
+    Wh = tuple(w - (0.5 * dt) * sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k, w in enumerate(Wc))
+    ok = True
+    for d in range(scheme.dim):
         for sign in (-0.5, 0.5):
-            faces_ok = faces_ok & (Wh[0] + sign * slopes[d][0] > 0.0) & (Wh[-1] + sign * slopes[d][-1] > 0.0)
-    Wh = tuple(jnp.where(faces_ok, a, b) for a, b in zip(Wh, Wc))
-    Wh, faces_ok = jax.lax.optimization_barrier((Wh, faces_ok))
+            ok = ok & (Wh[0] + sign * slopes[d][0] > 0.0) & (Wh[-1] + sign * slopes[d][-1] > 0.0)
+    return tuple(jnp.where(ok, a, b) for a, b in zip(Wh, Wc)), ok
+
+
+def face_flux(Wh, slopes_d, ok, d, scheme: Scheme):
+    """Riemann fluxes through the interior faces normal to direction ``d``
+    (tuple over conservative variables)."""
+    axes = scheme.axes
+    others = [b for b in axes if b != axes[d]]
+    s = tuple(jnp.where(ok, a, 0.0) for a in slopes_d)
+    left = tuple(_crop(_shifted(w + 0.5 * ds, axes[d], True), others) for w, ds in zip(Wh, s))
+    right = tuple(_crop(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
+    flux = RIEMANN_SOLVERS[scheme.riemann]
+    return rotated(flux(rotated(left, d), rotated(right, d), scheme.gamma), d)
+
+
+def flux_update(U, fluxes, dt, scheme: Scheme):
+    """``(U^{n+1}, side_forces)`` from the face fluxes of every direction.
+
+    ``side_forces[i]`` is the normal momentum flux integrated over side
+    ``i`` (per metre depth in 2D, per square metre in 1D): the time-centred
+    force the gas exerts on that side.
+    """
+    axes, dx, dim = scheme.axes, scheme.dx, scheme.dim
     divergence = [0.0] * len(U)
     forces = []
-    for d in range(dim):
-        s = tuple(jnp.where(faces_ok, a, 0.0) for a in slopes[d])
-        others = [b for b in axes if b != axes[d]]
-        left = tuple(_crop(_shifted(w + 0.5 * ds, axes[d], True), others) for w, ds in zip(Wh, s))
-        right = tuple(_crop(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
-        left, right = jax.lax.optimization_barrier((left, right))
-        F = rotated(flux(rotated(left, d), rotated(right, d), gamma), d)
-        F = jax.lax.optimization_barrier(F)
+    for d, F in enumerate(fluxes):
         inv_dx = 1.0 / dx[d]
         divergence = [acc + (_shifted(f, axes[d], False) - _shifted(f, axes[d], True)) * inv_dx
                       for acc, f in zip(divergence, F)]
@@ -133,16 +164,43 @@ def muscl_hancock_update(U, dt, states, scheme: Scheme, fill_solids: Callable | 
     return tuple(u - dt * div for u, div in zip(U, divergence)), jnp.stack(forces)
 
 
-def make_stepper(scheme: Scheme, fill_solids=None, fluid=None, reset_solids=None, probe_sampler=None):
-    """A jitted ``step(U, t, t_stop, states) -> (U, dt, side_forces, probes)``
-    that advances by the CFL step, clipped so it lands on ``t_stop``."""
+class Stepper:
+    """The MUSCL–Hancock step as a pipeline of jitted kernels.
 
-    def step(U, t, t_stop, states):
-        dt = jnp.minimum(stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid), t_stop - t)
-        U_new, forces = muscl_hancock_update(U, dt, states, scheme, fill_solids)
-        if reset_solids is not None:
-            U_new = reset_solids(U_new)
-        probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
-        return U_new, dt, forces, probes
+    ``stepper(U, dt, states) -> (U, dt_next, side_forces, probes)`` advances
+    by ``dt`` and returns the CFL step of the new state (NaN if it is not
+    physical). ``initial_dt(U)`` gives the first one. ``compile(U, states)``
+    compiles every kernel ahead of time and returns the seconds it took.
+    """
 
-    return jax.jit(step)
+    def __init__(self, scheme: Scheme, fill_solids: Callable | None = None, fluid=None,
+                 reset_solids: Callable | None = None, probe_sampler: Callable | None = None):
+        self.scheme = scheme
+        self._ghosts = jax.jit(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids))
+        self._slopes = jax.jit(lambda Wg: slopes_of(Wg, scheme))
+        self._half = jax.jit(lambda Wg, s, dt: half_step(Wg, s, dt, scheme))
+        self._flux = [jax.jit(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme)) for d in range(scheme.dim)]
+
+        def update(U, fluxes, dt):
+            U_new, forces = flux_update(U, fluxes, dt, scheme)
+            if reset_solids is not None:
+                U_new = reset_solids(U_new)
+            probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
+            return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
+
+        self._update = jax.jit(update)
+        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
+
+    def __call__(self, U, dt, states):
+        Wg = self._ghosts(U, states)
+        slopes = self._slopes(Wg)
+        Wh, ok = self._half(Wg, slopes, dt)
+        fluxes = [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)]
+        return self._update(U, fluxes, dt)
+
+    def compile(self, U, states) -> float:
+        """Compile every kernel for these shapes; return the seconds spent."""
+        t0 = _time.perf_counter()
+        dt = self.initial_dt(U)
+        jax.block_until_ready(self(U, dt, states))
+        return _time.perf_counter() - t0
