@@ -171,7 +171,8 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
         p = p0 + (gamma - 1.0) * E * fraction / (fraction.sum() * dx * dx)
         return rho0, 0.0, 0.0, p
 
-    output = OutputGrid(domain=domain, shape=(n_out, n_out), times=(0.25 * t_end, 0.5 * t_end, t_end), dt_probe=t_end / 500)
+    output = OutputGrid(domain=domain, shape=(n_out, n_out), times=(0.0, 0.25 * t_end, 0.5 * t_end, t_end),
+                        dt_probe=t_end / 500)
     return Scene(
         name="sedov",
         parameters=dict(E=E, rho0=rho0, p0=p0, t_end=t_end, r_init=r_init, half_width=L, n_out=n_out, gamma=gamma),

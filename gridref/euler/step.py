@@ -115,15 +115,16 @@ def slopes_of(Wg, scheme: Scheme):
     ]
 
 
-def half_step(Wg, slopes, dt, scheme: Scheme):
+def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
     """``(W^{n+1/2}, ok)``: the predictor on the interior plus one ghost
-    layer, and the mask of cells whose face states are physical (elsewhere
-    ``W^{n+1/2} = W`` and the slopes are to be ignored)."""
+    layer, and the mask of cells whose face states are physical and
+    ``allowed`` (elsewhere ``W^{n+1/2} = W`` and the slopes are ignored: the
+    cell is first order)."""
     gamma, dx = scheme.gamma, scheme.dx
     Wc = tuple(_crop(a, scheme.axes, N_GHOST - 1) for a in Wg)
     changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
     Wh = tuple(w - (0.5 * dt) * sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k, w in enumerate(Wc))
-    ok = True
+    ok = True if allowed is None else allowed
     for d in range(scheme.dim):
         for sign in (-0.5, 0.5):
             ok = ok & (Wh[0] + sign * slopes[d][0] > 0.0) & (Wh[-1] + sign * slopes[d][-1] > 0.0)
@@ -140,6 +141,23 @@ def face_flux(Wh, slopes_d, ok, d, scheme: Scheme):
     right = tuple(_crop(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
     flux = RIEMANN_SOLVERS[scheme.riemann]
     return rotated(flux(rotated(left, d), rotated(right, d), scheme.gamma), d)
+
+
+def _dilated(mask):
+    """``mask`` grown by one cell in every direction, diagonals included."""
+    for axis in range(mask.ndim):
+        mask = mask | jnp.roll(mask, 1, axis) | jnp.roll(mask, -1, axis)
+    return mask
+
+
+def second_order_allowed(ok, U_new, gamma):
+    """``ok`` without the cells at or next to a cell whose updated state is
+    not physical: the a-posteriori positivity fallback (in the spirit of
+    MOOD, Clain, Diot & Loubère 2011) redoes the step with those cells first
+    order. ``ok`` covers the interior plus one ghost layer."""
+    W = primitive(U_new, gamma)
+    bad = ~(W[0] > 0.0) | ~(W[-1] > 0.0)
+    return ok & ~_dilated(jnp.pad(bad, 1))
 
 
 def flux_update(U, fluxes, dt, scheme: Scheme):
@@ -179,6 +197,8 @@ class Stepper:
         self._ghosts = jax.jit(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids))
         self._slopes = jax.jit(lambda Wg: slopes_of(Wg, scheme))
         self._half = jax.jit(lambda Wg, s, dt: half_step(Wg, s, dt, scheme))
+        self._half_allowed = jax.jit(lambda Wg, s, dt, allowed: half_step(Wg, s, dt, scheme, allowed))
+        self._demote = jax.jit(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma))
         self._flux = [jax.jit(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme)) for d in range(scheme.dim)]
 
         def update(U, fluxes, dt):
@@ -191,16 +211,30 @@ class Stepper:
         self._update = jax.jit(update)
         self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
 
+    #: how often a step is redone with more cells first order before the
+    #: state is declared unphysical
+    RETRIES = 2
+
     def __call__(self, U, dt, states):
         Wg = self._ghosts(U, states)
         slopes = self._slopes(Wg)
         Wh, ok = self._half(Wg, slopes, dt)
-        fluxes = [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)]
-        return self._update(U, fluxes, dt)
+        out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
+        for _ in range(self.RETRIES):
+            if jnp.isfinite(out[1]):
+                break
+            ok = self._demote(ok, out[0])
+            Wh, ok = self._half_allowed(Wg, slopes, dt, ok)
+            out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
+        return out
 
     def compile(self, U, states) -> float:
         """Compile every kernel for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
         dt = self.initial_dt(U)
         jax.block_until_ready(self(U, dt, states))
+        Wg = self._ghosts(U, states)
+        slopes = self._slopes(Wg)
+        _, ok = self._half(Wg, slopes, dt)
+        jax.block_until_ready(self._half_allowed(Wg, slopes, dt, self._demote(ok, U)))
         return _time.perf_counter() - t0
