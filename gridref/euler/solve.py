@@ -108,7 +108,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     compile_seconds = stepper.compile(U, _inflow_states(scene, 0.0))
 
     solid = None if ib is None else ~ib.fluid
-    out_times = [t for t in scene.output.times if t <= t_end * (1 + 1e-12)]
+    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     frames, frame_times = [], []
     t, n_steps = 0.0, 0
     series_t = [0.0]
@@ -126,7 +126,8 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 
     t_start = _time.perf_counter()
     dt_cfl = float(stepper.initial_dt(U))
-    bar = tqdm(total=t_end, disable=not progress, unit="s(sim)", desc=f"fv {scene.name}", leave=False)
+    bar = tqdm(total=t_end, disable=not progress, desc=f"fv {scene.name}", leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
     try:
         for t_out in out_times:
             while t < t_out * (1 - 1e-14):
@@ -150,6 +151,8 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
                 series_p.append(np.asarray(probes))
                 n_steps += 1
                 bar.update(dt)
+                if n_steps % 50 == 0:
+                    bar.set_postfix_str(f"{n_steps} steps")
             frames.append(_fields(primitive(U, gamma), gamma, scene.fields, solid))
             frame_times.append(t)
     except KeyboardInterrupt:
