@@ -15,4 +15,4 @@ jax.config.update(
     "jax_compilation_cache_dir",
     os.environ.get("PARTMESH_JAX_CACHE", os.path.join(os.path.expanduser("~"), ".cache", "partmesh", "jax")),
 )
-jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)

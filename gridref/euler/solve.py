@@ -135,8 +135,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
                     message = _diagnose(U, gamma, grid, t, n_steps, dt_cfl, solid)
                     raise SolverFailed(message, partial=partial_result(message))
                 dt = min(dt_cfl, t_out - t)
-                U_new, dt_next, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-                dt_cfl = float(dt_next)
+                U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
                 if not np.isfinite(dt_cfl):
                     # keep the last good state for the diagnosis and the partial result
                     message = _diagnose(U_new, gamma, grid, t + dt, n_steps + 1, dt_cfl, solid)

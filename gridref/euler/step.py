@@ -28,6 +28,7 @@ from typing import Callable
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from gridref.euler.boundaries import N_GHOST, axis_of, with_ghosts
 from gridref.euler.reconstruct import LIMITERS, limited_slopes
@@ -183,37 +184,41 @@ def flux_update(U, fluxes, dt, scheme: Scheme):
 
 
 class Stepper:
-    """The MUSCL–Hancock step as a pipeline of jitted kernels.
+    """The MUSCL–Hancock step as jitted kernels.
 
     ``stepper(U, dt, states) -> (U, dt_next, side_forces, probes)`` advances
-    by ``dt`` and returns the CFL step of the new state (NaN if it is not
-    physical). ``initial_dt(U)`` gives the first one. ``compile(U, states)``
-    compiles every kernel ahead of time and returns the seconds it took.
+    by ``dt`` and returns the CFL step of the new state as a float (NaN if
+    the state is not physical even after the positivity fallback).
+    ``initial_dt(U)`` gives the first one; ``compile(U, states)`` compiles
+    every kernel ahead of time and returns the seconds it took.
+
+    The step runs as a pipeline of kernels whose outputs are materialised
+    in between (see the module docstring).
     """
+
+    #: how often a step is redone with more cells first order before the
+    #: state is declared unphysical
+    RETRIES = 2
 
     def __init__(self, scheme: Scheme, fill_solids: Callable | None = None, fluid=None,
                  reset_solids: Callable | None = None, probe_sampler: Callable | None = None):
         self.scheme = scheme
+
+        def update(U, F, dt):
+            U_new, forces = flux_update(U, F, dt, scheme)
+            if reset_solids is not None:
+                U_new = reset_solids(U_new)
+            probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
+            return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
+
         self._ghosts = jax.jit(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids))
         self._slopes = jax.jit(lambda Wg: slopes_of(Wg, scheme))
         self._half = jax.jit(lambda Wg, s, dt: half_step(Wg, s, dt, scheme))
         self._half_allowed = jax.jit(lambda Wg, s, dt, allowed: half_step(Wg, s, dt, scheme, allowed))
         self._demote = jax.jit(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma))
         self._flux = [jax.jit(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme)) for d in range(scheme.dim)]
-
-        def update(U, fluxes, dt):
-            U_new, forces = flux_update(U, fluxes, dt, scheme)
-            if reset_solids is not None:
-                U_new = reset_solids(U_new)
-            probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
-            return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
-
         self._update = jax.jit(update)
         self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
-
-    #: how often a step is redone with more cells first order before the
-    #: state is declared unphysical
-    RETRIES = 2
 
     def __call__(self, U, dt, states):
         Wg = self._ghosts(U, states)
@@ -221,20 +226,20 @@ class Stepper:
         Wh, ok = self._half(Wg, slopes, dt)
         out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
         for _ in range(self.RETRIES):
-            if jnp.isfinite(out[1]):
+            if np.isfinite(float(out[1])):
                 break
             ok = self._demote(ok, out[0])
             Wh, ok = self._half_allowed(Wg, slopes, dt, ok)
             out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
-        return out
+        return out[0], float(out[1]), out[2], out[3]
 
     def compile(self, U, states) -> float:
         """Compile every kernel for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
         dt = self.initial_dt(U)
-        jax.block_until_ready(self(U, dt, states))
         Wg = self._ghosts(U, states)
         slopes = self._slopes(Wg)
-        _, ok = self._half(Wg, slopes, dt)
-        jax.block_until_ready(self._half_allowed(Wg, slopes, dt, self._demote(ok, U)))
+        Wh, ok = self._half(Wg, slopes, dt)
+        Wh, ok = self._half_allowed(Wg, slopes, dt, self._demote(ok, U))
+        jax.block_until_ready(self._update(U, [f(Wh, slopes[d], ok) for d, f in enumerate(self._flux)], dt))
         return _time.perf_counter() - t0
