@@ -101,3 +101,10 @@ def check_scene(scene) -> None:
         for shape in scene.obstacles:
             if shape.signed_distance(np.array(probe.x), np.array(probe.y)) < 0:
                 raise InputError(f"probe {probe.name!r} at ({probe.x:g}, {probe.y:g}) lies inside a solid obstacle.")
+    from cases.shapes import overlaps
+
+    for i, a in enumerate(scene.obstacles):
+        for j in range(i + 1, len(scene.obstacles)):
+            if overlaps(a, scene.obstacles[j]):
+                raise InputError(f"scene {scene.name}: obstacles {i} ({a.to_dict()['shape']}) and {j} "
+                                 f"({scene.obstacles[j].to_dict()['shape']}) overlap; move them apart.")
