@@ -3,62 +3,19 @@ range, raised as :class:`InputError` before any solver starts (SPEC §9)."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from cases.errors import InputError
+from compare.checks import (
+    InputError,
+    choice,
+    in_range,
+    integer,
+    non_negative,
+    number,
+    positive,
+)
 
-
-def positive(name: str, value) -> float:
-    """``value`` as a float, which must be finite and > 0."""
-    value = number(name, value)
-    if not value > 0:
-        raise InputError(f"{name} must be positive, got {value:g}.")
-    return value
-
-
-def number(name: str, value) -> float:
-    """``value`` as a finite float."""
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}.") from None
-    if not math.isfinite(value):
-        raise InputError(f"{name} must be finite, got {value}.")
-    return value
-
-
-def in_range(name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=False) -> float:
-    """``value`` as a float within [lo, hi] (ends open where asked)."""
-    value = number(name, value)
-    below = value <= lo if lo_open else value < lo
-    above = value >= hi if hi_open else value > hi
-    if below or above:
-        interval = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
-        raise InputError(f"{name} must lie in {interval}, got {value:g}.")
-    return value
-
-
-def choice(name: str, value, options) -> str:
-    """``value``, which must be one of ``options``."""
-    if value not in options:
-        raise InputError(f"{name} must be one of {', '.join(map(str, options))}; got {value!r}.")
-    return value
-
-
-def integer(name: str, value, lo: int, hi: int | None = None) -> int:
-    """``value`` as an int ≥ lo (and ≤ hi)."""
-    try:
-        as_int = int(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be an integer, got {value!r}.") from None
-    if as_int != value and not (isinstance(value, str) and str(as_int) == value.strip()):
-        raise InputError(f"{name} must be an integer, got {value!r}.")
-    if as_int < lo or (hi is not None and as_int > hi):
-        upper = "" if hi is None else f" and at most {hi}"
-        raise InputError(f"{name} must be at least {lo}{upper}, got {as_int}.")
-    return as_int
+__all__ = ["InputError", "cfl", "check_scene", "choice", "in_range", "integer", "non_negative", "number", "positive"]
 
 
 def cfl(value) -> float:

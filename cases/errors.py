@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
+from compare.checks import InputError
 
-class InputError(ValueError):
-    """A parameter outside its allowed range; the message is one sentence
-    naming the parameter and the allowed range (SPEC §9)."""
+__all__ = ["InputError", "SolverFailed"]
 
 
 class SolverFailed(RuntimeError):

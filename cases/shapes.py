@@ -54,6 +54,8 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from compare.checks import number, positive
+
 __all__ = [
     "Shape",
     "Circle",
@@ -88,26 +90,6 @@ _REL_TOL = 1e-9
 # --------------------------------------------------------------------------
 # input validation helpers
 # --------------------------------------------------------------------------
-def _finite(name: str, value: Any) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}.") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}.")
-    return v
-
-
-def _positive(name: str, value: Any) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}.") from None
-    if not (math.isfinite(v) and v > 0.0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}.")
-    return v
-
-
 def _xy(x, y) -> tuple[np.ndarray, np.ndarray]:
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
@@ -214,7 +196,7 @@ class Shape:
 
     @staticmethod
     def _check_spacing(spacing) -> float:
-        return _positive("spacing", spacing)
+        return positive("spacing", spacing)
 
 
 # --------------------------------------------------------------------------
@@ -231,9 +213,9 @@ class Circle(Shape):
     name = "circle"
 
     def __post_init__(self):
-        object.__setattr__(self, "cx", _finite("cx", self.cx))
-        object.__setattr__(self, "cy", _finite("cy", self.cy))
-        object.__setattr__(self, "radius", _positive("radius", self.radius))
+        object.__setattr__(self, "cx", number("cx", self.cx))
+        object.__setattr__(self, "cy", number("cy", self.cy))
+        object.__setattr__(self, "radius", positive("radius", self.radius))
 
     def signed_distance(self, x, y) -> np.ndarray:
         x, y = _xy(x, y)
@@ -589,25 +571,25 @@ def _check_no_crossing(v: np.ndarray, tol: float) -> None:
 # factories (equal frontal extent ``size`` across y for the blast array)
 # --------------------------------------------------------------------------
 def _centre(cx, cy) -> tuple[float, float]:
-    return _finite("cx", cx), _finite("cy", cy)
+    return number("cx", cx), number("cy", cy)
 
 
 def circle(cx: float, cy: float, size: float) -> Circle:
     """Circle of diameter ``size`` centred at ``(cx, cy)``."""
     cx, cy = _centre(cx, cy)
-    return Circle(cx, cy, 0.5 * _positive("size", size))
+    return Circle(cx, cy, 0.5 * positive("size", size))
 
 
 def square(cx: float, cy: float, size: float) -> Polygon:
     """Axis-aligned square of side ``size`` centred at ``(cx, cy)``."""
     cx, cy = _centre(cx, cy)
-    h = 0.5 * _positive("size", size)
+    h = 0.5 * positive("size", size)
     return Polygon(((cx - h, cy - h), (cx + h, cy - h), (cx + h, cy + h), (cx - h, cy + h)))
 
 
 def _triangle(cx, cy, size, anchor, apex_left: bool) -> Polygon:
     cx, cy = _centre(cx, cy)
-    a = _positive("size", size)
+    a = positive("size", size)
     h = a * math.sqrt(3.0) / 2.0  # altitude along x
     if anchor == "centroid":
         off = h / 6.0  # centroid sits h/3 from the base, bbox centre h/2
@@ -647,7 +629,7 @@ def diamond(cx: float, cy: float, size: float) -> Polygon:
     """Square rotated by 45 degrees with diagonal ``size`` (both diagonals
     along the axes), centred at ``(cx, cy)``."""
     cx, cy = _centre(cx, cy)
-    h = 0.5 * _positive("size", size)
+    h = 0.5 * positive("size", size)
     return Polygon(((cx - h, cy), (cx, cy - h), (cx + h, cy), (cx, cy + h)))
 
 
@@ -655,12 +637,12 @@ def wedge(x_apex: float, y_wall: float, half_angle_deg: float, length: float) ->
     """Upper half of a symmetric wedge standing on the wall ``y = y_wall``:
     the triangle ``(x_apex, y_wall), (x_apex + length, y_wall),
     (x_apex + length, y_wall + length tan(theta))``, apex pointing upstream."""
-    x0 = _finite("x_apex", x_apex)
-    y0 = _finite("y_wall", y_wall)
-    theta = _finite("half_angle_deg", half_angle_deg)
+    x0 = number("x_apex", x_apex)
+    y0 = number("y_wall", y_wall)
+    theta = number("half_angle_deg", half_angle_deg)
     if not 0.0 < theta < 90.0:
         raise ValueError(f"half_angle_deg must lie in (0, 90) degrees, got {half_angle_deg!r}.")
-    length = _positive("length", length)
+    length = positive("length", length)
     top = length * math.tan(math.radians(theta))
     return Polygon(((x0, y0), (x0 + length, y0), (x0 + length, y0 + top)))
 

@@ -22,6 +22,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from compare.checks import number
+
 __all__ = ["observed_order", "observed_order_three", "richardson", "gci"]
 
 #: observed orders at or below this count as "no convergence".
@@ -30,18 +32,8 @@ _P_MIN = 1e-9
 _P_BRACKET = (1e-6, 50.0)
 
 
-def _real(name: str, x) -> float:
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {x!r}.") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {x!r}.")
-    return x
-
-
 def _ratio(name: str, r) -> float:
-    r = _real(name, r)
+    r = number(name, r)
     if not r > 1.0:
         raise ValueError(f"{name} must be > 1 (coarse spacing over fine spacing), got {r:g}.")
     return r
@@ -108,7 +100,7 @@ def observed_order_three(f1, f2, f3, r21, r32, tol: float = 1e-15, max_iter: int
         no order can be read), or an equation with no positive root (e.g.
         |ε₃₂| = |ε₂₁| on equal ratios: the solutions do not converge).
     """
-    f1, f2, f3 = _real("f1", f1), _real("f2", f2), _real("f3", f3)
+    f1, f2, f3 = number("f1", f1), number("f2", f2), number("f3", f3)
     r21, r32 = _ratio("r21", r21), _ratio("r32", r32)
     e21, e32 = f2 - f1, f3 - f2
     if e21 == 0.0 or e32 == 0.0:
@@ -165,9 +157,9 @@ def richardson(f1, f2, r, p) -> float:
     ValueError
         for r ≤ 1 or p ≤ 0.
     """
-    f1, f2 = _real("f1", f1), _real("f2", f2)
+    f1, f2 = number("f1", f1), number("f2", f2)
     r = _ratio("r", r)
-    p = _real("p", p)
+    p = number("p", p)
     if not p > 0:
         raise ValueError(f"p must be > 0, got {p:g}.")
     return f1 + (f1 - f2) / (r**p - 1.0)
@@ -206,7 +198,7 @@ def gci(f1, f2, f3, r21, r32, Fs: float = 1.25) -> dict:
         for Fs ≤ 0, f1 = 0 or f2 = 0 (relative errors undefined), or the
         cases of :func:`observed_order_three`.
     """
-    Fs = _real("Fs", Fs)
+    Fs = number("Fs", Fs)
     if not Fs > 0:
         raise ValueError(f"Fs must be > 0, got {Fs:g}.")
     p = observed_order_three(f1, f2, f3, r21, r32)

@@ -16,6 +16,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from compare.checks import number
+
 __all__ = [
     "NORMS",
     "field_error",
@@ -88,16 +90,6 @@ def _series(name: str, series) -> tuple[np.ndarray, np.ndarray]:
     return t, v
 
 
-def _finite(name: str, x) -> float:
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {x!r}.") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {x!r}.")
-    return x
-
-
 def _pair(name: str, v, what: str = "(a, b)") -> tuple[float, float]:
     """Two finite numbers, or a ValueError naming ``name``."""
     try:
@@ -106,7 +98,7 @@ def _pair(name: str, v, what: str = "(a, b)") -> tuple[float, float]:
         items = None
     if items is None or len(items) != 2:
         raise ValueError(f"{name} must be a pair {what} of numbers, got {v!r}.")
-    return _finite(name, items[0]), _finite(name, items[1])
+    return number(name, items[0]), number(name, items[1])
 
 
 def _crossings(x: np.ndarray, v: np.ndarray, level: float) -> np.ndarray:
@@ -310,7 +302,7 @@ def errors(
             raise ValueError("run and reference share no output time; pass time explicitly.")
         time = float(common.max())
     else:
-        time = _finite("time", time)
+        time = number("time", time)
         if not np.any(np.isclose(common, time, rtol=0.0, atol=1e-9 * max(1e-300, np.max(np.abs(common), initial=abs(time))))):
             allowed = ", ".join(f"{t:g}" for t in common) or "none"
             raise ValueError(f"time={time:g} is not an output time of both run and reference (common: {allowed}).")
@@ -350,7 +342,7 @@ def _shock_on_profile(x, v, method, level, direction, name="profile") -> float:
     lo, hi = float(v.min()), float(v.max())
     if level is None:
         level = 0.5 * (lo + hi)
-    level = _finite("level", level)
+    level = number("level", level)
     if not lo < level < hi:
         raise ValueError(f"level={level:g} must lie strictly inside the {name}'s range ({lo:g}, {hi:g}).")
     xc = _crossings(x, v, level)
@@ -446,7 +438,7 @@ def shock_radius(
         if not spac:
             raise ValueError("field2d must have more than one cell along x or y.")
         bin_width = max(spac)
-    bin_width = _finite("bin_width", bin_width)
+    bin_width = number("bin_width", bin_width)
     if bin_width <= 0:
         raise ValueError(f"bin_width must be > 0, got {bin_width:g}.")
     ok = np.isfinite(v)
@@ -465,7 +457,7 @@ def shock_radius(
     if level is None:
         if ambient is None:
             ambient = float(np.median(vv[rr >= 0.9 * rr.max()]))
-        ambient = _finite("ambient", ambient)
+        ambient = number("ambient", ambient)
         level = ambient + 0.5 * (float(vbar.max()) - ambient)
     return _shock_on_profile(rbar, vbar, "threshold", level, +1, name="ring-averaged profile")
 
@@ -475,7 +467,7 @@ def shock_radius(
 
 
 def _fraction(name: str, x) -> float:
-    x = _finite(name, x)
+    x = number(name, x)
     if not 0.0 < x < 1.0:
         raise ValueError(f"{name} must lie in (0, 1), got {x:g}.")
     return x
@@ -519,7 +511,7 @@ def arrival_time(series: xr.DataArray, baseline: float, threshold_fraction: floa
         (0, 1), or a baseline not below the series maximum.
     """
     t, v = _series("series", series)
-    baseline = _finite("baseline", baseline)
+    baseline = number("baseline", baseline)
     f = _fraction("threshold_fraction", threshold_fraction)
     return _arrival(t, v, baseline, f)[0]
 
@@ -581,7 +573,7 @@ def positive_phase(series: xr.DataArray, baseline: float, threshold_fraction: fl
         as :func:`arrival_time`.
     """
     t, v = _series("series", series)
-    baseline = _finite("baseline", baseline)
+    baseline = number("baseline", baseline)
     f = _fraction("threshold_fraction", threshold_fraction)
     return _phase(t, v, baseline, f)
 
@@ -631,7 +623,7 @@ def peak(
         the window ("widen fit_window or sample more often").
     """
     t, v = _series("series", series)
-    baseline = _finite("baseline", baseline)
+    baseline = number("baseline", baseline)
     f = _fraction("threshold_fraction", threshold_fraction)
     if fit not in ("exponential", "linear"):
         raise ValueError(f"fit must be 'exponential' or 'linear', got {fit!r}.")
@@ -672,7 +664,7 @@ def plateau(series: xr.DataArray, t0: float, t1: float) -> float:
         unless t_first ≤ t0 < t1 ≤ t_last of the series' finite samples.
     """
     t, v = _series("series", series)
-    t0, t1 = _finite("t0", t0), _finite("t1", t1)
+    t0, t1 = number("t0", t0), number("t1", t1)
     if not t0 < t1:
         raise ValueError(f"t0={t0:g} must be smaller than t1={t1:g}.")
     if t0 < t[0] or t1 > t[-1]:
@@ -738,7 +730,7 @@ def oblique_shock_angle(
     v = np.asarray(f.values, dtype=float)[yorder]
     if rho_free is None:
         rho_free = v[-1, int(np.argmin(x))]
-    rho_free = _finite("rho_free (the top-left cell by default)", rho_free)
+    rho_free = number("rho_free (the top-left cell by default)", rho_free)
     xs = x[cols]
     vc = v[:, cols]
     if rho_post is None:
@@ -748,7 +740,7 @@ def oblique_shock_angle(
         if colmax.size == 0:
             raise ValueError("rho2d is NaN in every column of x_range.")
         rho_post = float(np.median(colmax))
-    rho_post = _finite("rho_post", rho_post)
+    rho_post = number("rho_post", rho_post)
     if rho_post == rho_free:
         raise ValueError(f"rho_post must differ from rho_free (both {rho_free:g}).")
     level = 0.5 * (rho_free + rho_post)

@@ -8,24 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from compare.checks import non_negative, positive
+
+__all__ = ["GEOMETRIES", "axis", "geometry_index", "internal_energy", "non_negative", "output_times", "positive",
+           "ratio_of_heats"]
+
 #: geometry name -> j, the number of symmetric dimensions (1 planar, 2 cylindrical, 3 spherical)
 GEOMETRIES = {"planar": 1, "cylindrical": 2, "spherical": 3}
-
-
-def positive(name: str, value) -> float:
-    """``value`` as a float, which must be finite and > 0."""
-    value = float(value)
-    if not np.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value}.")
-    return value
-
-
-def non_negative(name: str, value) -> float:
-    """``value`` as a float, which must be finite and >= 0."""
-    value = float(value)
-    if not np.isfinite(value) or value < 0.0:
-        raise ValueError(f"{name} must be a finite number >= 0, got {value}.")
-    return value
 
 
 def ratio_of_heats(gamma) -> float:

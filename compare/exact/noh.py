@@ -16,7 +16,13 @@ import numpy as np
 import xarray as xr
 
 from compare.exact._inputs import (
-    axis, geometry_index, internal_energy, non_negative, output_times, positive, ratio_of_heats,
+    axis,
+    geometry_index,
+    internal_energy,
+    non_negative,
+    output_times,
+    positive,
+    ratio_of_heats,
 )
 from compare.schema import result
 

@@ -36,7 +36,14 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import quad
 
-from compare.exact._inputs import axis, geometry_index, internal_energy, output_times, positive, ratio_of_heats
+from compare.exact._inputs import (
+    axis,
+    geometry_index,
+    internal_energy,
+    output_times,
+    positive,
+    ratio_of_heats,
+)
 from compare.schema import result
 
 #: |gamma - 2| below which the singular (gamma = 2) closed form is used
