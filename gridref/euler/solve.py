@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 from cases.checks import cfl as check_cfl
 from cases.checks import choice, positive
 from cases.errors import InputError, SolverFailed
+from cases.history import History
 from cases.scene import Inflow
 from compare.regrid import to_output_grid
 from compare.schema import result
@@ -61,35 +62,23 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     number in (0, 1], ``limiter`` one of ``LIMITERS``, ``riemann`` one of
     ``RIEMANN_SOLVERS``. Returns a schema Dataset; raises
     :class:`~cases.errors.SolverFailed` (with the partial result) if the state
-    turns non-physical.
+    turns non-physical or the run is interrupted.
     """
     if unknown:
-        raise InputError(f"method fv has no setting {sorted(unknown)[0]!r}; settings: dx, cfl, limiter, riemann.")
-    dx = positive("dx", scene.dx if dx is None else dx)
-    cfl = check_cfl(cfl)
-    choice("limiter", limiter, tuple(LIMITERS))
-    choice("riemann", riemann, tuple(RIEMANN_SOLVERS))
-    t_end = scene.t_end if t_end is None else positive("t_end", t_end)
+        raise InputError(f"method fv has no setting {sorted(unknown)[0]!r}; settings: dx, cfl, limiter, riemann, t_end.")
+    settings = {
+        "method": "fv", "dx": positive("dx", scene.dx if dx is None else dx), "cfl": check_cfl(cfl),
+        "limiter": choice("limiter", limiter, tuple(LIMITERS)), "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
+        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
+    }
+    dx, t_end, gamma = settings["dx"], settings["t_end"], scene.gamma
     grid = solver_grid(scene.domain, dx)
-    gamma = scene.gamma
     X, Y = mesh(grid)
     rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
     U = conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), gamma)
-
-    ib = None
-    if scene.obstacles:
-        if scene.dim != 2:
-            raise InputError(f"scene {scene.name}: obstacles need dim = 2.")
-        ib = immersed_boundary(grid, scene.obstacles)
-        too_thin = [s for s in scene.obstacles if min(np.ptp(np.array(s.bounds()).reshape(2, 2), axis=0)) < 4 * dx]
-        if too_thin:
-            raise InputError(
-                f"dx = {dx:g} m is too coarse for an obstacle of extent "
-                f"{min(np.ptp(np.array(too_thin[0].bounds()).reshape(2, 2), axis=0)):g} m: use at least 4 cells across it."
-            )
+    ib = _immersed(scene, grid, dx)
     kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
     scheme = Scheme(gamma=gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
-
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
 
     def probe_pressure(U):
@@ -104,26 +93,11 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         reset_solids=(lambda V: ib.reset(V, U_solid)) if ib is not None else None,
         probe_sampler=probe_pressure,
     )
-    compile_seconds = stepper.compile(U, _inflow_states(scene, 0.0))
-
-    solid = None if ib is None else ~ib.fluid
+    run = _Run(scene, grid, None if ib is None else ~ib.fluid, settings,
+               compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
+               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
-    frames, frame_times = [], []
-    t, n_steps = 0.0, 0
-    series_t = [0.0]
-    series_p = [np.asarray(probe_pressure(U))]
-    force_t, force_side = [], []
-    impulse_t, impulse_side = [0.0], [np.zeros(2 * scene.dim)]
-
-    def partial_result(status_message):
-        W = primitive(U, gamma)
-        times = frame_times + ([t] if not frame_times or t > frame_times[-1] else [])
-        fr = frames + ([_fields(W, gamma, scene.fields, solid)] if len(times) > len(frames) else [])
-        return _assemble(scene, grid, times, fr, solid, series_t, series_p, force_t, force_side, impulse_t,
-                         impulse_side, dx, cfl, limiter, riemann, t_end, n_steps, _time.perf_counter() - t_start,
-                         compile_seconds, status="failed", failure=status_message)
-
-    t_start = _time.perf_counter()
+    t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
     bar = tqdm(total=t_end, disable=not progress, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
@@ -131,44 +105,97 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         for t_out in out_times:
             while t < t_out * (1 - 1e-14):
                 if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
-                    message = _diagnose(U, gamma, grid, t, n_steps, dt_cfl, solid)
-                    raise SolverFailed(message, partial=partial_result(message))
+                    raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), U, t)
                 dt = min(dt_cfl, t_out - t)
                 U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
                 if not np.isfinite(dt_cfl):
-                    # keep the last good state for the diagnosis and the partial result
-                    message = _diagnose(U_new, gamma, grid, t + dt, n_steps + 1, dt_cfl, solid)
-                    raise SolverFailed(message, partial=partial_result(message))
+                    # the last good state is kept for the partial result
+                    raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), U, t)
                 U = U_new
-                force_t.append(t + 0.5 * dt)
-                force_side.append(np.asarray(forces))
-                impulse_side.append(impulse_side[-1] + dt * force_side[-1])
-                t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                impulse_t.append(t)
-                series_t.append(t)
-                series_p.append(np.asarray(probes))
-                n_steps += 1
-                bar.update(dt)
-                if n_steps % 50 == 0:
-                    bar.set_postfix_str(f"{n_steps} steps")
-            frames.append(_fields(primitive(U, gamma), gamma, scene.fields, solid))
-            frame_times.append(t)
+                t_new = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                run.history.record(t, t_new, probes, forces)
+                run.n_steps += 1
+                bar.update(t_new - t)
+                t = t_new
+                if run.n_steps % 50 == 0:
+                    bar.set_postfix_str(f"{run.n_steps} steps")
+            run.snapshot(U, t)
     except KeyboardInterrupt:
-        message = f"fv run of {scene.name} interrupted at t = {t:.6g} s after {n_steps} steps."
-        raise SolverFailed(message, partial=partial_result(message)) from None
+        raise run.failure(f"fv run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", U, t) from None
     finally:
         bar.close()
-    wall = _time.perf_counter() - t_start
-    return _assemble(scene, grid, frame_times, frames, solid, series_t, series_p, force_t, force_side, impulse_t,
-                     impulse_side, dx, cfl, limiter, riemann, t_end, n_steps, wall, compile_seconds)
+    return run.dataset()
+
+
+def _immersed(scene, grid, dx):
+    """The immersed boundary of the scene's obstacles on ``grid`` (or None),
+    refusing a grid too coarse to resolve them."""
+    if not scene.obstacles:
+        return None
+    if scene.dim != 2:
+        raise InputError(f"scene {scene.name}: obstacles need dim = 2.")
+    for shape in scene.obstacles:
+        xmin, ymin, xmax, ymax = shape.bounds()
+        extent = min(xmax - xmin, ymax - ymin)
+        if extent < 4 * dx:
+            raise InputError(f"dx = {dx:g} m is too coarse for an obstacle of extent {extent:g} m: "
+                             f"use at least 4 cells across it (dx <= {extent / 4:g} m).")
+    return immersed_boundary(grid, scene.obstacles)
+
+
+class _Run:
+    """The record of one fv run: output frames, step history and cost."""
+
+    def __init__(self, scene, grid, solid, settings, compile_seconds, history):
+        self.scene, self.grid, self.solid, self.settings = scene, grid, solid, settings
+        self.compile_seconds, self.history = compile_seconds, history
+        self.frames, self.frame_times, self.n_steps = [], [], 0
+        self.t_start = _time.perf_counter()
+
+    def snapshot(self, U, t):
+        self.frames.append(_fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid))
+        self.frame_times.append(t)
+
+    def failure(self, message, U, t):
+        """A :class:`SolverFailed` carrying the result up to the state ``U`` at ``t``."""
+        if not self.frame_times or t > self.frame_times[-1]:
+            self.snapshot(U, t)
+        return SolverFailed(message, partial=self.dataset(status="failed", failure=message))
+
+    def dataset(self, status="ok", failure=None):
+        """The schema Dataset of the run (fields regridded onto the output grid)."""
+        wall = _time.perf_counter() - self.t_start
+        scene, out, s = self.scene, self.scene.output, self.settings
+        src = cell_centres(self.grid)
+        pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
+        fields, how = {}, "identity"
+        for name in scene.fields:
+            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
+        solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs)[0] > 0.5
+        t_probe = out.probe_times(self.frame_times[-1])
+        series = self.history.series(scene, t_probe)
+        attrs = {"regrid": how, "status": status}
+        if failure:
+            attrs["failure"] = failure
+        return result(
+            case=scene.name, method="fv",
+            scheme=f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
+                   f"{', ghost-cell immersed boundary' if self.solid is not None else ''}, "
+                   "a-posteriori positivity fallback to first order",
+            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields, solid=solid_out,
+            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
+            t_probe=t_probe if series else None, series=series,
+            parameters={"scene": scene.to_dict(), "solver": s},
+            dx=s["dx"], n_elements=int(np.prod(self.grid.shape)), n_steps=self.n_steps, wall_seconds=wall,
+            compile_seconds=self.compile_seconds, **attrs,
+        )
 
 
 def _diagnose(U, gamma, grid, t, n_steps, dt, solid):
     """One sentence: when, where and what went wrong."""
     W = [np.asarray(a) for a in primitive(U, gamma)]
     fluid = np.ones(W[0].shape, bool) if solid is None else ~solid
-    names = ["density", "pressure"]
-    for k, name in zip((0, -1), names):
+    for k, name in ((0, "density"), (-1, "pressure")):
         bad = fluid & ~(W[k] > 0)
         if np.any(bad):
             where = np.unravel_index(np.flatnonzero(bad)[0], bad.shape)
@@ -177,45 +204,3 @@ def _diagnose(U, gamma, grid, t, n_steps, dt, solid):
             return (f"fv became unstable at t = {t:.6g} s (step {n_steps}): {name} {W[k][where]:.3g} "
                     f"is not positive at {at}.")
     return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."
-
-
-def _assemble(scene, grid, times, frames, solid, series_t, series_p, force_t, force_side, impulse_t, impulse_side,
-              dx, cfl, limiter, riemann, t_end, n_steps, wall, compile_seconds, status="ok", failure=None):
-    """The schema Dataset of an fv run (fields regridded onto the output grid)."""
-    out = scene.output
-    src = cell_centres(grid)
-    fields, how = {}, "identity"
-    for name in scene.fields:
-        stack = np.stack([f[name] for f in frames])
-        fields[name], how = to_output_grid(stack, src[0], out.x, *( (src[1], out.y) if scene.dim == 2 else ()))
-    solid_out = None
-    if solid is not None:
-        solid_out = to_output_grid(solid.astype(float), src[0], out.x, src[1], out.y)[0] > 0.5
-    t_probe = out.probe_times(min(t_end, times[-1]))
-    series = {}
-    if scene.probes:
-        series["p_probe"] = np.stack([np.interp(t_probe, series_t, s) for s in np.stack(series_p).T], axis=1)
-    if scene.wall is not None and force_t:
-        side = scene.sides.index(scene.wall.side)
-        length = scene.wall.height if scene.dim == 1 else (scene.domain[1 - side // 2][1] - scene.domain[1 - side // 2][0])
-        scale = scene.wall.height if scene.dim == 1 else 1.0
-        base = scene.wall.p0 * (1.0 if scene.dim == 1 else length)
-        force = (np.stack(force_side)[:, side] - base) * scale
-        series["wall_force"] = np.interp(t_probe, force_t, force)
-        impulse = (np.stack(impulse_side)[:, side] - base * np.asarray(impulse_t)) * scale
-        series["wall_impulse"] = np.interp(t_probe, impulse_t, impulse)
-    attrs = {"regrid": how, "status": status}
-    if failure:
-        attrs["failure"] = failure
-    return result(
-        case=scene.name, method="fv",
-        scheme=f"unsplit MUSCL-Hancock, {limiter} limiter on primitive variables, {riemann.upper()} flux"
-               f"{', ghost-cell immersed boundary' if solid is not None else ''}, positivity fallback to first order",
-        x=out.x, y=out.y, times=np.asarray(times), fields=fields, solid=solid_out,
-        probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
-        t_probe=t_probe if series else None, series=series,
-        parameters={"scene": scene.to_dict(), "solver": {"method": "fv", "dx": dx, "cfl": cfl, "limiter": limiter,
-                                                         "riemann": riemann, "t_end": t_end}},
-        dx=dx, n_elements=int(np.prod(grid.shape)), n_steps=n_steps, wall_seconds=wall,
-        compile_seconds=compile_seconds, **attrs,
-    )
