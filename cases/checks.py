@@ -65,3 +65,17 @@ def check_scene(scene) -> None:
             if overlaps(a, scene.obstacles[j]):
                 raise InputError(f"scene {scene.name}: obstacles {i} ({a.to_dict()['shape']}) and {j} "
                                  f"({scene.obstacles[j].to_dict()['shape']}) overlap; move them apart.")
+
+
+def check_initial_state(scene, rho, p, x, y=None, fluid=None) -> None:
+    """Refuse an initial state with non-positive (or non-finite) density or
+    pressure in the fluid, naming the first offending point."""
+    for name, values in (("density", rho), ("pressure", p)):
+        bad = ~(np.asarray(values) > 0) | ~np.isfinite(values)
+        if fluid is not None:
+            bad &= fluid
+        if np.any(bad):
+            k = np.flatnonzero(bad)[0]
+            at = f"x = {np.ravel(x)[k]:.6g} m" + ("" if y is None else f", y = {np.ravel(y)[k]:.6g} m")
+            raise InputError(f"scene {scene.name}: initial {name} must be positive and finite, "
+                             f"got {np.ravel(values)[k]:g} at {at}.")

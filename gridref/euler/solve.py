@@ -10,7 +10,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from cases.checks import cfl as check_cfl
-from cases.checks import choice, positive
+from cases.checks import check_initial_state, choice, positive
 from cases.errors import InputError, SolverFailed
 from cases.history import History
 from cases.scene import Inflow
@@ -75,8 +75,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     grid = solver_grid(scene.domain, dx)
     X, Y = mesh(grid)
     rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
-    U = conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), gamma)
     ib = _immersed(scene, grid, dx)
+    check_initial_state(scene, rho, p, X, Y, fluid=None if ib is None else ib.fluid)
+    U = conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), gamma)
     kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
     scheme = Scheme(gamma=gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
@@ -169,9 +170,11 @@ class _Run:
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
         fields, how = {}, "identity"
+        solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs)[0] > 0.5
         for name in scene.fields:
             fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
-        solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs)[0] > 0.5
+            if solid_out is not None:
+                fields[name][:, solid_out] = np.nan
         t_probe = out.probe_times(self.frame_times[-1])
         series = self.history.series(scene, t_probe)
         attrs = {"regrid": how, "status": status}
