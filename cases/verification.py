@@ -72,6 +72,7 @@ def shock_reflection(Ms=3.2, rho0=AIR["rho0"], p0=AIR["p0"], length=0.5, height=
     """A normal shock of Mach Ms enters a tube at rest and reflects from the end wall."""
     Ms = checks.in_range("Ms", Ms, 1.0, 50.0, lo_open=True)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
     length, height = checks.positive("length", length), checks.positive("height", height)
     dim = checks.integer("dim", dim, 1, 2)
     rho1, u1, p1 = exact.normal_shock(Ms, rho0, p0, gamma)
@@ -119,10 +120,12 @@ def wedge(M1=3.5, theta_deg=20.0, rho0=AIR["rho0"], p0=AIR["p0"], x_apex=0.2, t_
     M1 = checks.in_range("M1", M1, 1.0, 20.0, lo_open=True)
     theta = checks.in_range("theta_deg", theta_deg, 0.0, 60.0, lo_open=True, hi_open=True)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
     try:
         beta_exact = exact.theta_beta_mach(M1, theta, gamma)
     except ValueError as err:
         raise InputError(f"theta_deg = {theta:g}: {err}") from None
+    x_apex = checks.in_range("x_apex", x_apex, 0.05, 0.6)
     t_end = checks.positive("t_end", t_end)
     domain = ((0.0, 1.0), (0.0, 0.75))
     u1 = M1 * np.sqrt(gamma * p0 / rho0)
@@ -154,6 +157,7 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
     E, rho0, p0 = checks.positive("E", E), checks.positive("rho0", rho0), checks.positive("p0", p0)
     t_end, r_init = checks.positive("t_end", t_end), checks.positive("r_init", r_init)
     L = checks.positive("half_width", half_width)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((-L, L), (-L, L))
 
@@ -218,6 +222,7 @@ def cylinder_shock(Ms=1.16, diameter=0.015, rho0=AIR["rho0"], p0=AIR["p0"], t_en
     Ms = checks.in_range("Ms", Ms, 1.0, 50.0, lo_open=True)
     d = checks.in_range("diameter", diameter, 1e-4, 0.05)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
     t_end = checks.positive("t_end", t_end)
     rho1, u1, p1 = exact.normal_shock(Ms, rho0, p0, gamma)
     domain = ((0.0, 0.12), (0.0, 0.06))
