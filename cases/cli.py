@@ -25,10 +25,11 @@ def _settings(pairs: list[str]) -> dict:
 
 
 def cmd_cases(args) -> int:
-    from cases.registry import defaults, describe, names
+    from cases.registry import defaults, describe, get, names
 
     for name in names():
         print(f"{name}: {describe(name)}")
+        print(f"    {get(name).description}")
         for key, value in defaults(name).items():
             print(f"    {key} = {value!r}")
     return 0

@@ -8,7 +8,7 @@ Every solver reads the same Scene and writes its fields on the scene's
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -118,7 +118,6 @@ class Scene:
     exact_solution: Callable | None = None
     measure: Callable | None = None
     description: str = ""
-    extra: dict = field(default_factory=dict)
 
     def __post_init__(self):
         from cases.checks import check_scene
