@@ -100,7 +100,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
-    bar = tqdm(total=t_end, disable=not progress, desc=f"fv {scene.name}", leave=False,
+    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
     try:
         for t_out in out_times:
