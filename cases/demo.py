@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from cases.errors import Unsupported
 from cases.registry import get
 from cases.run import methods, run
 from compare import plots
@@ -31,7 +32,11 @@ def demo(folder: Path = Path("partmesh-demo"), progress: bool = True) -> Path:
         for method in available:
             for dx in resolutions:
                 name = f"{case}_{method}_dx{dx:g}"
-                ds = run(scene, method, dx=dx, progress=progress)
+                try:
+                    ds = run(scene, method, dx=dx, progress=progress)
+                except Unsupported as reason:
+                    print(f"  {method} skipped: {reason}")
+                    break
                 write(ds, folder / "runs" / f"{name}.nc")
                 runs.append(ds)
                 names.append(f"{method} dx={dx:g}")

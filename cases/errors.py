@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from compare.checks import InputError
 
-__all__ = ["InputError", "SolverFailed"]
+__all__ = ["InputError", "SolverFailed", "Unsupported"]
+
+
+class Unsupported(InputError):
+    """A method that cannot run a scene (DSMC on water, say); the message
+    says what the method lacks."""
 
 
 class SolverFailed(RuntimeError):

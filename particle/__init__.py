@@ -1,5 +1,3 @@
-"""Particle solvers (numba): gas SPH, water SPH and equilibrium DSMC.
-
-The solvers register themselves under the ``partmesh.methods`` entry-point
-group as they land; none is registered yet.
-"""
+"""Particle solvers (numba): gas SPH (``particle.sph``, method ``sph``);
+water SPH and equilibrium DSMC to come. Each registers itself under the
+``partmesh.methods`` entry-point group."""

@@ -1,0 +1,86 @@
+"""Initial particle placement and boundary (ghost) particles for gas SPH.
+
+Particles have equal mass ``m = ρ_max Δx^d``: ``Δx`` is the spacing in the
+densest initial gas and lighter gas gets proportionally wider spacing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cases.errors import InputError, Unsupported
+from cases.scene import Inflow
+
+
+def extended_domain(scene, reach: float) -> list[tuple[float, float]]:
+    """The region filled with fluid particles: the scene's domain, extended
+    by ``reach`` beyond every ``outflow`` side so that the particles inside
+    the domain never feel the free end of the particle set."""
+    box = []
+    for d, (lo, hi) in enumerate(scene.domain):
+        lo_kind, hi_kind = scene.boundaries[scene.sides[2 * d]], scene.boundaries[scene.sides[2 * d + 1]]
+        box.append((lo - (reach if lo_kind == "outflow" else 0.0), hi + (reach if hi_kind == "outflow" else 0.0)))
+    return box
+
+
+def place_1d(scene, dx: float, box) -> tuple[np.ndarray, float]:
+    """Equal-mass positions along x over ``box`` for the scene's initial
+    density: particle k sits where the cumulative mass reaches (k + ½) m,
+    so each particle carries exactly the mass of its share of the profile."""
+    lo, hi = box[0]
+    fine = np.linspace(lo, hi, int(np.ceil((hi - lo) / dx)) * 64 + 1)
+    rho = np.broadcast_to(np.asarray(scene.initial(fine, None, dx)[0], float), fine.shape)
+    mass = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(fine))])
+    m = rho.max() * dx
+    n = int(np.floor(mass[-1] / m))
+    targets = (np.arange(n) + 0.5) * mass[-1] / n
+    return np.interp(targets, mass, fine)[:, None], mass[-1] / n
+
+
+def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
+    """A square lattice of spacing ``dx`` over ``box`` outside the obstacles;
+    the initial density must be uniform (checked)."""
+    (x0, x1), (y0, y1) = box
+    nx, ny = int(round((x1 - x0) / dx)), int(round((y1 - y0) / dx))
+    X, Y = np.meshgrid(x0 + (np.arange(nx) + 0.5) * (x1 - x0) / nx, y0 + (np.arange(ny) + 0.5) * (y1 - y0) / ny)
+    x = np.stack([X.ravel(), Y.ravel()], axis=1)
+    rho = np.broadcast_to(np.asarray(scene.initial(x[:, 0], x[:, 1], dx)[0], float), x[:, 0].shape)
+    if np.ptp(rho) > 1e-12 * rho.max():
+        raise InputError(f"scene {scene.name}: sph in 2D needs a uniform initial density for now "
+                         f"(found {rho.min():g} to {rho.max():g} kg m-3).")
+    for shape in scene.obstacles:
+        x = x[shape.signed_distance(x[:, 0], x[:, 1]) > 0.5 * dx]
+    return x, rho.max() * (x1 - x0) * (y1 - y0) / (nx * ny)
+
+
+def mirror_ghosts(scene, x, v, reach):
+    """Mirror particles across every reflecting (plane) side: positions,
+    velocities with the normal component reversed, and the index of each
+    ghost's source particle. Sides are mirrored in turn, so a corner between
+    two walls gets the double mirror image."""
+    src = np.arange(x.shape[0])
+    gx, gv, gsrc = [x], [v], [src]
+    for d, side in enumerate(scene.sides):
+        axis, upper = d // 2, d % 2 == 1
+        if scene.boundaries[side] != "reflect":
+            continue
+        wall = scene.domain[axis][1 if upper else 0]
+        all_x, all_v, all_src = np.concatenate(gx), np.concatenate(gv), np.concatenate(gsrc)
+        near = (all_x[:, axis] > wall - reach) if upper else (all_x[:, axis] < wall + reach)
+        mx, mv = all_x[near].copy(), all_v[near].copy()
+        mx[:, axis] = 2.0 * wall - mx[:, axis]
+        mv[:, axis] = -mv[:, axis]
+        gx.append(mx)
+        gv.append(mv)
+        gsrc.append(all_src[near])
+    n = x.shape[0]
+    return np.concatenate(gx)[n:], np.concatenate(gv)[n:], np.concatenate(gsrc)[n:]
+
+
+def check_supported(scene):
+    """Refuse, in one sentence, what this SPH solver does not model yet."""
+    for side in scene.sides:
+        if isinstance(scene.boundaries[side], Inflow):
+            raise Unsupported(f"scene {scene.name}: sph has no inflow boundary yet (side {side}).")
+    if scene.obstacles:
+        raise Unsupported(f"scene {scene.name}: sph has no obstacle walls yet.")

@@ -1,0 +1,274 @@
+"""Gas SPH (method ``sph``): run a scene, return a schema Dataset on the
+scene's output grid (Prasanna Kumar, Patnaik & Ramamurthi 2018, Phys.
+Fluids 30, 046105; Price 2012, J. Comput. Phys. 231, 759).
+
+Time integration is the predictor–corrector leapfrog (kick–drift–kick with
+a predicted velocity for the velocity-dependent terms; Price 2012 §2.9):
+
+    v^{n+½} = v^n + ½Δt a^n,   x^{n+1} = x^n + Δt v^{n+½},
+    a^{n+1} = a(x^{n+1}, v^n + Δt a^n),   v^{n+1} = v^{n+½} + ½Δt a^{n+1},
+
+likewise for the specific internal energy, with
+Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from cases.checks import choice, in_range, positive
+from cases.errors import InputError, SolverFailed
+from cases.history import History
+from compare.deposit import shepard
+from compare.schema import result
+from particle import kernels
+from particle.neighbours import neighbours
+from particle.sph.density import density_and_support
+from particle.sph.forces import rates
+from particle.sph.particles import check_supported, extended_domain, mirror_ghosts, place_1d, place_2d
+from particle.sph.switches import cullen_dehnen
+
+SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
+#: neighbour lists are built for this multiple of the current support
+SEARCH_SLACK = 1.3
+
+
+@dataclass
+class Particles:
+    """The fluid particles of a run (ghosts are rebuilt every evaluation)."""
+
+    x: np.ndarray
+    v: np.ndarray
+    u: np.ndarray
+    m: np.ndarray
+    H: np.ndarray
+    alpha: np.ndarray
+
+
+@dataclass
+class Evaluation:
+    """Everything computed from one particle state (fluid particles only)."""
+
+    rho: np.ndarray
+    H: np.ndarray
+    dvdt: np.ndarray
+    dudt: np.ndarray
+    div_v: np.ndarray
+    curl_v: np.ndarray
+    vsig: np.ndarray
+
+
+class GasSPH:
+    """The SPH equations of one run, bound to its scene and settings."""
+
+    def __init__(self, scene, kernel: str, eta: float, alpha_u: float):
+        self.scene, self.kernel, self.eta, self.alpha_u = scene, kernel, eta, alpha_u
+        self.kind = kernels.KERNELS[kernel]
+        self.dim = scene.dim
+        self.lo = np.array([lo for lo, _ in scene.domain])
+        self.hi = np.array([hi for _, hi in scene.domain])
+        self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
+
+    def wrap(self, x):
+        """Positions with periodic axes wrapped back into the domain."""
+        for d in np.flatnonzero(self.periodic):
+            x[:, d] = self.lo[d] + np.mod(x[:, d] - self.lo[d], self.hi[d] - self.lo[d])
+        return x
+
+    def evaluate(self, P: Particles, x, v, u) -> Evaluation:
+        """Density, support and rates of change at the state ``(x, v, u)``;
+        ``P`` supplies masses, the support guess and the viscosity switch."""
+        n, dim, gamma = x.shape[0], self.dim, self.scene.gamma
+        gx, gv, src = mirror_ghosts(self.scene, x, v, SEARCH_SLACK * P.H.max())
+        X, V = np.concatenate([x, gx]), np.concatenate([v, gv])
+        m = np.concatenate([P.m, P.m[src]])
+        search = SEARCH_SLACK * np.concatenate([P.H, P.H[src]])
+        offsets, index, dx, r = neighbours(X, search, self.lo, self.hi, self.periodic)
+        rho, H, omega, converged = density_and_support(m, search / SEARCH_SLACK, search, offsets, index, r,
+                                                       self.kind, dim, self.eta, n)
+        if not converged.all():
+            k = int(np.flatnonzero(~converged)[0])
+            raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
+        rho, H, omega, u_all = (np.concatenate([a, a[src]]) for a in (rho, H, omega, u))
+        p = (gamma - 1.0) * rho * u_all
+        c = np.sqrt(gamma * p / rho)
+        alpha = np.concatenate([P.alpha, P.alpha[src]])
+        dvdt, dudt, div_v, curl_v, vsig = rates(X, V, m, u_all, rho, p, c, omega, H, alpha,
+                                                np.full(alpha.shape, self.alpha_u), offsets, index, dx, r,
+                                                self.kind, dim, n)
+        return Evaluation(rho[:n], H[:n], dvdt, dudt, div_v, curl_v, vsig)
+
+    def interpolate(self, P: Particles, E: Evaluation, values, axes):
+        """Shepard interpolation of particle ``values`` (k, n) on the grid
+        with cell-centre ``axes`` (x[, y]): the schema layout (k, [y,] x)."""
+        name, dim = self.kernel, self.dim
+        return shepard(P.x, values, P.m / E.rho, E.H, *axes, kernel=lambda r, H: kernels.w(name, r, H, dim),
+                       periodic=tuple(bool(b) for b in self.periodic), box=tuple(zip(self.lo, self.hi)))
+
+
+def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
+          t_end=None, progress=True, **unknown):
+    """Run ``scene`` with compressible SPH.
+
+    ``dx`` is the initial particle spacing in the densest gas (equal-mass
+    particles), ``eta`` the support radius in units of the local spacing
+    (H = η (m/ρ)^(1/d); η = 4 gives H = 4Δx), ``alpha_max``/``alpha_min``
+    bound the Cullen–Dehnen viscosity, ``alpha_u`` is the conduction
+    coefficient. Raises :class:`~cases.errors.SolverFailed` with the partial
+    result if the state turns non-physical or the run is interrupted.
+    """
+    if unknown:
+        raise InputError(f"method sph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
+    check_supported(scene)
+    settings = {
+        "method": "sph", "dx": positive("dx", scene.dx if dx is None else dx),
+        "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True), "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)),
+        "eta": in_range("eta", eta, 1.0, 8.0), "alpha_max": in_range("alpha_max", alpha_max, 0.0, 10.0),
+        "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0), "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0),
+        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
+    }
+    dx, t_end, gamma, dim = settings["dx"], settings["t_end"], scene.gamma, scene.dim
+    sph = GasSPH(scene, kernel, eta, alpha_u)
+    P = _initial_particles(scene, dx, eta, alpha_min, t_end)
+    t0 = _time.perf_counter()
+    E = sph.evaluate(P, P.x, P.v, P.u)
+    compile_seconds = _time.perf_counter() - t0
+    P.H = E.H
+    sample_points = _sample_points(scene)
+    run = _Run(scene, sph, settings, compile_seconds,
+               History(_pressure_at(sph, P, E, sample_points)[: len(scene.probes)], 2 * dim))
+    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+    t, t_sampled = 0.0, 0.0
+    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
+    try:
+        for t_out in out_times:
+            while t < t_out * (1 - 1e-14):
+                speed = E.vsig + np.linalg.norm(P.v, axis=1)
+                dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
+                v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
+                x_new = sph.wrap(P.x + dt * v_half)
+                E_new = sph.evaluate(P, x_new, P.v + dt * E.dvdt, P.u + dt * E.dudt)
+                v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
+                if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
+                    k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
+                    raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
+                                      f"internal energy {u_new[k]:.3g} at x = {x_new[k].round(6).tolist()} m.", P, E, t)
+                P.alpha = cullen_dehnen(P.alpha, E_new.div_v, E.div_v, E_new.curl_v, E_new.vsig, E_new.H, dt,
+                                        alpha_max, alpha_min)
+                P.x, P.v, P.u, P.H, E = x_new, v_new, u_new, E_new.H, E_new
+                t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                run.n_steps += 1
+                bar.update(dt)
+                if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
+                    sampled = _pressure_at(sph, P, E, sample_points)
+                    run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
+                    t_sampled = t
+            run.snapshot(P, E, t)
+    except KeyboardInterrupt:
+        raise run.failure(f"sph run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.",
+                          P, E, t) from None
+    finally:
+        bar.close()
+    return run.dataset()
+
+
+def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
+    """Equal-mass particles over the domain (extended beyond outflow sides
+    by the distance the fastest initial signal covers in the run)."""
+    gamma, dim = scene.gamma, scene.dim
+    xs = np.linspace(*scene.domain[0], 257)
+    rho0, u0, _, p0 = (np.broadcast_to(np.asarray(a, float), xs.shape)
+                       for a in scene.initial(xs, None if dim == 1 else np.full_like(xs, scene.domain[1][0]), dx))
+    c_max = float(np.max(np.sqrt(gamma * p0 / rho0) + np.abs(u0)))
+    reach = min(1.2 * c_max * t_end + 8 * eta * dx, 2.0 * (scene.domain[0][1] - scene.domain[0][0]))
+    x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, extended_domain(scene, reach))
+    rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
+                      for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
+    n = x.shape[0]
+    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
+                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min))
+
+
+def _sample_points(scene) -> np.ndarray:
+    """Probe positions, then the midpoint of every side of the domain."""
+    dim = scene.dim
+    points = [(pr.x, pr.y)[:dim] for pr in scene.probes]
+    for d in range(2 * dim):
+        axis, upper = d // 2, d % 2
+        mid = [0.5 * (lo + hi) for lo, hi in scene.domain]
+        mid[axis] = scene.domain[axis][upper]
+        points.append(tuple(mid))
+    return np.asarray(points, float)
+
+
+def _pressure_at(sph, P, E, points) -> np.ndarray:
+    """Pressure interpolated at ``points`` (n_points, dim)."""
+    p = (sph.scene.gamma - 1.0) * E.rho * P.u
+    # scattered points: each is interpolated as its own one-cell grid
+    return np.array([sph.interpolate(P, E, p[None], tuple(pt[d:d + 1] for d in range(sph.dim)))[0].ravel()[0]
+                     for pt in points])
+
+
+def _side_forces(scene, sampled) -> np.ndarray:
+    """Pressure force on every side from the pressure sampled at its
+    midpoint (per square metre in 1D, times the side length in 2D)."""
+    walls = sampled[len(scene.probes):]
+    if scene.dim == 1:
+        return walls
+    lengths = [scene.domain[1 - d // 2][1] - scene.domain[1 - d // 2][0] for d in range(4)]
+    return walls * np.asarray(lengths)
+
+
+class _Run:
+    """The record of one SPH run: output frames, probe history and cost."""
+
+    def __init__(self, scene, sph, settings, compile_seconds, history):
+        self.scene, self.sph, self.settings = scene, sph, settings
+        self.compile_seconds, self.history = compile_seconds, history
+        self.frames, self.frame_times, self.n_steps, self.n_particles = [], [], 0, 0
+        self.t_start = _time.perf_counter()
+
+    def snapshot(self, P: Particles, E: Evaluation, t: float):
+        scene, gamma = self.scene, self.scene.gamma
+        p = (gamma - 1.0) * E.rho * P.u
+        values = {"rho": E.rho, "u": P.v[:, 0], "p": p, "e": P.u}
+        if scene.dim == 2:
+            values["v"] = P.v[:, 1]
+        axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
+        grid = self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)
+        self.frames.append(dict(zip(scene.fields, grid)))
+        self.frame_times.append(t)
+        self.n_particles = P.x.shape[0]
+
+    def failure(self, message, P, E, t):
+        if not self.frame_times or t > self.frame_times[-1]:
+            self.snapshot(P, E, t)
+        return SolverFailed(message, partial=self.dataset(status="failed", failure=message))
+
+    def dataset(self, status="ok", failure=None):
+        wall = _time.perf_counter() - self.t_start
+        scene, out, s = self.scene, self.scene.output, self.settings
+        fields = {name: np.stack([f[name] for f in self.frames]) for name in scene.fields}
+        t_probe = out.probe_times(self.frame_times[-1])
+        series = self.history.series(scene, t_probe)
+        attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
+                 "status": status}
+        if failure:
+            attrs["failure"] = failure
+        return result(
+            case=scene.name, method="sph",
+            scheme=f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
+                   f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
+                   "predictor-corrector leapfrog, mirror-particle walls",
+            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields,
+            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
+            t_probe=t_probe if series else None, series=series,
+            parameters={"scene": scene.to_dict(), "solver": s},
+            dx=s["dx"], n_elements=self.n_particles, n_steps=self.n_steps, wall_seconds=wall,
+            compile_seconds=self.compile_seconds, **attrs,
+        )
