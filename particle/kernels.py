@@ -88,18 +88,18 @@ from compare.checks import InputError
 __all__ = [
     "KERNELS",
     "SIGMA",
-    "kernel_w",
-    "kernel_dwdr",
-    "kernel_dwdh",
-    "kernel_eval",
-    "skewed_w",
-    "skewed_grad",
-    "w",
-    "dwdr",
     "dwdh",
-    "support_ratio",
+    "dwdr",
+    "kernel_dwdh",
+    "kernel_dwdr",
+    "kernel_eval",
     "kernel_id",
+    "kernel_w",
     "sigma",
+    "skewed_grad",
+    "skewed_w",
+    "support_ratio",
+    "w",
 ]
 
 KERNELS: dict[str, int] = {
@@ -375,6 +375,20 @@ def _eval_many(kind, r, H, dim, which, out):
             out[k] = kernel_dwdh(kind, r[k], H[k], dim)
 
 
+@numba.njit(cache=True)
+def _eval_few(kind, r, H, dim, which, out):
+    for k in range(r.size):
+        if which == 0:
+            out[k] = kernel_w(kind, r[k], H[k], dim)
+        elif which == 1:
+            out[k] = kernel_dwdr(kind, r[k], H[k], dim)
+        else:
+            out[k] = kernel_dwdh(kind, r[k], H[k], dim)
+
+
+_PARALLEL_MIN = 20000  # below this, starting the thread pool costs more than it saves
+
+
 def kernel_id(name) -> int:
     """Integer id of kernel ``name`` (a key of :data:`KERNELS`) for numba code."""
     if isinstance(name, (int, np.integer)) and not isinstance(name, bool):
@@ -413,7 +427,7 @@ def _prepare(name, r, H, dim):
 def _vectorised(which, name, r, H, dim):
     kind, dim, rf, Hf, shape = _prepare(name, r, H, dim)
     out = np.empty(rf.size, dtype=np.float64)
-    _eval_many(kind, rf, Hf, dim, which, out)
+    (_eval_many if rf.size >= _PARALLEL_MIN else _eval_few)(kind, rf, Hf, dim, which, out)
     if shape == ():
         return float(out[0])
     return out.reshape(shape)

@@ -14,9 +14,11 @@ the "gather–scatter" lists both ``W(r_ij, H_i)`` and ``W(r_ij, H_j)`` need
 Algorithm (Hockney & Eastwood 1988, *Computer simulation using particles*,
 §8-4; Monaghan 2005, Rep. Prog. Phys. 68, 1703, §7; Domínguez et al. 2011,
 Int. J. Numer. Meth. Fluids 67, 2026): the box is cut into cells no smaller
-than ``max H`` along each axis, particles are put in cells by a stable
-counting sort (O(N)), and each particle tests only the particles of its own
-and the adjacent cells (3, 9 or 27 cells). A first parallel pass counts each
+than ``max H / reach`` along each axis (reach = 2 by default), particles are
+put in cells by a stable counting sort (O(N)), and each particle tests only
+the particles of the ``(2·reach + 1)^dim`` cells around its own, scanned as
+runs of consecutive cells in the sorted arrays (branch-free, vectorisable
+distance tests on structure-of-arrays copies). A first parallel pass counts each
 particle's neighbours, a prefix sum gives the CSR offsets, and a second
 parallel pass fills the lists; the cells are visited in a fixed order and a
 cell's particles in increasing index order, so the result does not depend on
@@ -39,10 +41,10 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["neighbours", "sort_order", "cell_grid"]
+__all__ = ["cell_grid", "neighbours", "sort_order"]
 
-# Cells are made this much wider than the cut-off radius, so that a particle
-# put one cell off by round-off still finds every neighbour.
+# Cells are made this much wider than max H / reach, so that a particle put
+# one cell off by round-off still finds every neighbour.
 _MARGIN = 1.0 + 1e-9
 
 
@@ -54,7 +56,7 @@ _MARGIN = 1.0 + 1e-9
 @numba.njit(cache=True, inline="always")
 def _cell_index(xa, origin, width, ncell, per):
     """Cell index of coordinate ``xa`` along one axis (wrapped or clamped)."""
-    c = int(math.floor((xa - origin) / width))
+    c = math.floor((xa - origin) / width)
     if per:
         c = c % ncell
         if c < 0:

@@ -4,6 +4,7 @@ kernel of SPEC §3.1."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from fractions import Fraction
 
@@ -21,7 +22,7 @@ BREAKS = {"cubic_spline": [0.5], "quintic_spline": [1 / 3, 2 / 3]}  # in q = r/H
 
 def _quad(fun, a, b, points=()):
     pts = [p for p in points if a < p < b]
-    val, err = quad(fun, a, b, points=pts or None, epsabs=1e-14, epsrel=1e-13, limit=400)
+    val, _err = quad(fun, a, b, points=pts or None, epsabs=1e-14, epsrel=1e-13, limit=400)
     return val
 
 
@@ -80,7 +81,7 @@ def test_splines_and_gaussian_match_their_h_forms():
         return np.where(s < 1, 1 - 1.5 * s**2 + 0.75 * s**3, np.where(s < 2, 0.25 * (2 - s) ** 3, 0.0))
 
     def m6(s):
-        t = lambda a: np.clip(a - s, 0, None) ** 5  # noqa: E731
+        t = lambda a: np.clip(a - s, 0, None) ** 5
         return t(3) - 6 * t(2) + 15 * t(1)
 
     H2 = 2 * h
@@ -234,18 +235,20 @@ def test_skewed_kernel_integrates_to_one(name):
     H = 1.1
     # 1D
     for lam in (-10.0, 3.0):
-        val = _quad(lambda x: K.skewed_w(kind, x, 0.0, H, 1, lam, 0.0), -H, H, [0.0] + [
+        val = _quad(lambda x, lam=lam: K.skewed_w(kind, x, 0.0, H, 1, lam, 0.0), -H, H, [0.0] + [
             s * b * H for b in BREAKS.get(name, []) for s in (-1, 1)])
         assert val == pytest.approx(1.0, abs=1e-10)
-    # 2D: Gauss–Legendre in r (per kernel piece) × Gauss–Legendre in θ on [θ0, θ0 + 2π)
+    # 2D: Gauss–Legendre in r (per kernel piece) × trapezoid in θ (periodic, so
+    # spectrally accurate; an odd count so no node has its opposite θ + π)
     lam = -10.0 * np.array([np.cos(0.3), np.sin(0.3)])
     edges = [0.0] + [b * H for b in BREAKS.get(name, [])] + [H]
     xr, wr = np.polynomial.legendre.leggauss(40)
-    xt, wt = np.polynomial.legendre.leggauss(600)
-    theta = 1.0 + np.pi * (xt + 1.0)
+    nt = 801
+    theta = 1.0 + 2.0 * np.pi * np.arange(nt) / nt
+    wt = np.full(nt, 2.0 / nt)
     skew = np.vectorize(K.skewed_w, otypes=[float])
     total = 0.0
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in itertools.pairwise(edges):
         r = a + (b - a) * (xr + 1) / 2
         R, T = np.meshgrid(r, theta, indexing="ij")
         vals = skew(kind, R * np.cos(T), R * np.sin(T), H, 2, lam[0], lam[1])

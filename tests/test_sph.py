@@ -69,5 +69,13 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
 
 
 def test_sph_refuses_a_scene_it_cannot_model():
-    with pytest.raises(cases.errors.Unsupported, match="inflow"):
-        cases.run(cases.get("blast_wall"), "sph", progress=False)
+    with pytest.raises(cases.errors.Unsupported, match="obstacle"):
+        cases.run(cases.get("wedge"), "sph", progress=False)
+
+
+@pytest.mark.parametrize("Ms", [1.5, 3.2])
+def test_shock_reflection_1d_through_the_inflow_buffer(Ms):
+    # the incident shock is made by the inflow buffer imposing the post-shock state at x = 0;
+    # the reflected pressure at the end wall (mirror particles) gives C_R
+    ds = cases.run(cases.get("shock_reflection", Ms=Ms), "sph", dx=2e-3, progress=False)
+    assert ds.attrs["reflection_coefficient"] == pytest.approx(ds.attrs["reflection_coefficient_exact"], rel=0.02)

@@ -80,7 +80,7 @@ def mirror_ghosts(scene, x, v, reach):
 def check_supported(scene):
     """Refuse, in one sentence, what this SPH solver does not model yet."""
     for side in scene.sides:
-        if isinstance(scene.boundaries[side], Inflow):
-            raise Unsupported(f"scene {scene.name}: sph has no inflow boundary yet (side {side}).")
+        if isinstance(scene.boundaries[side], Inflow) and side != "x_lo":
+            raise Unsupported(f"scene {scene.name}: sph has inflow buffers on side x_lo only, not {side}.")
     if scene.obstacles:
         raise Unsupported(f"scene {scene.name}: sph has no obstacle walls yet.")

@@ -23,13 +23,21 @@ from tqdm.auto import tqdm
 from cases.checks import choice, in_range, positive
 from cases.errors import InputError, SolverFailed
 from cases.history import History
+from cases.scene import Inflow
 from compare.deposit import shepard
 from compare.schema import result
 from particle import kernels
 from particle.neighbours import neighbours
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
-from particle.sph.particles import check_supported, extended_domain, mirror_ghosts, place_1d, place_2d
+from particle.sph.inflow import InflowBuffer
+from particle.sph.particles import (
+    check_supported,
+    extended_domain,
+    mirror_ghosts,
+    place_1d,
+    place_2d,
+)
 from particle.sph.switches import cullen_dehnen
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
@@ -47,6 +55,11 @@ class Particles:
     m: np.ndarray
     H: np.ndarray
     alpha: np.ndarray
+
+    def keep(self, mask):
+        """Drop the particles where ``mask`` is False."""
+        for name in ("x", "v", "u", "m", "H", "alpha"):
+            setattr(self, name, getattr(self, name)[mask])
 
 
 @dataclass
@@ -79,28 +92,38 @@ class GasSPH:
             x[:, d] = self.lo[d] + np.mod(x[:, d] - self.lo[d], self.hi[d] - self.lo[d])
         return x
 
-    def evaluate(self, P: Particles, x, v, u) -> Evaluation:
-        """Density, support and rates of change at the state ``(x, v, u)``;
-        ``P`` supplies masses, the support guess and the viscosity switch."""
+    def evaluate(self, P: Particles, x, v, u, imposed=None) -> Evaluation:
+        """Density, support and rates of change of the fluid particles at the
+        state ``(x, v, u)``; ``P`` supplies masses, the support guess and the
+        viscosity switch. ``imposed`` holds particles whose state is given,
+        not computed — the inflow buffer ``(x, v, rho, u, H)`` — which act as
+        neighbours only; mirror ghosts are made of both."""
         n, dim, gamma = x.shape[0], self.dim, self.scene.gamma
-        gx, gv, src = mirror_ghosts(self.scene, x, v, SEARCH_SLACK * P.H.max())
-        X, V = np.concatenate([x, gx]), np.concatenate([v, gv])
-        m = np.concatenate([P.m, P.m[src]])
-        search = SEARCH_SLACK * np.concatenate([P.H, P.H[src]])
+        if imposed is None:
+            imposed = (np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0))
+        bx, bv, brho, bu, bH = imposed
+        x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
+        H_real = np.concatenate([P.H, bH])
+        m_real = np.concatenate([P.m, np.full(bx.shape[0], P.m[0])])
+        gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, SEARCH_SLACK * H_real.max())
+        X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
+        m = np.concatenate([m_real, m_real[src]])
+        search = SEARCH_SLACK * np.concatenate([H_real, H_real[src]])
         offsets, index, dx, r = neighbours(X, search, self.lo, self.hi, self.periodic)
         rho, H, omega, converged = density_and_support(m, search / SEARCH_SLACK, search, offsets, index, r,
                                                        self.kind, dim, self.eta, n)
         if not converged.all():
             k = int(np.flatnonzero(~converged)[0])
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
-        rho, H, omega, u_all = (np.concatenate([a, a[src]]) for a in (rho, H, omega, u))
-        p = (gamma - 1.0) * rho * u_all
-        c = np.sqrt(gamma * p / rho)
-        alpha = np.concatenate([P.alpha, P.alpha[src]])
-        dvdt, dudt, div_v, curl_v, vsig = rates(X, V, m, u_all, rho, p, c, omega, H, alpha,
-                                                np.full(alpha.shape, self.alpha_u), offsets, index, dx, r,
+        real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
+                                                    (u, bu), (P.alpha, np.zeros(bx.shape[0])))]
+        rho_all, H_all, omega_all, u_all, alpha_all = (np.concatenate([a, a[src]]) for a in real)
+        p = (gamma - 1.0) * rho_all * u_all
+        c = np.sqrt(gamma * p / rho_all)
+        dvdt, dudt, div_v, curl_v, vsig = rates(X, V, m, u_all, rho_all, p, c, omega_all, H_all, alpha_all,
+                                                np.full(alpha_all.shape, self.alpha_u), offsets, index, dx, r,
                                                 self.kind, dim, n)
-        return Evaluation(rho[:n], H[:n], dvdt, dudt, div_v, curl_v, vsig)
+        return Evaluation(rho, H, dvdt, dudt, div_v, curl_v, vsig)
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
         """Shepard interpolation of particle ``values`` (k, n) on the grid
@@ -131,12 +154,13 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0), "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0),
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
-    dx, t_end, gamma, dim = settings["dx"], settings["t_end"], scene.gamma, scene.dim
+    dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     sph = GasSPH(scene, kernel, eta, alpha_u)
     P = _initial_particles(scene, dx, eta, alpha_min, t_end)
+    inflow = _inflow_buffer(scene, P, dx, eta)
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) every numba kernel
-    E = sph.evaluate(P, P.x, P.v, P.u)
+    E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
     cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
@@ -153,16 +177,34 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 speed = E.vsig + np.linalg.norm(P.v, axis=1)
                 dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
                 v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
-                x_new = sph.wrap(P.x + dt * v_half)
-                E_new = sph.evaluate(P, x_new, P.v + dt * E.dvdt, P.u + dt * E.dudt)
+                v_pred, u_pred = P.v + dt * E.dvdt, P.u + dt * E.dudt
+                P.x = sph.wrap(P.x + dt * v_half)
+                div_old = E.div_v
+                if inflow:
+                    # buffer particles that crossed the inlet join the fluid with the imposed state
+                    x_in = inflow.advance(t, dt)
+                    bx, bv, _, bu, bH = inflow.particles(t + dt, eta)
+                    k = x_in.shape[0]
+                    vel, u_in = np.tile(bv[:1], (k, 1)), np.full(k, bu[0] if bu.size else 0.0)
+                    P.x, P.v, P.u = np.concatenate([P.x, x_in]), np.concatenate([P.v, vel]), np.concatenate([P.u, u_in])
+                    P.m, P.H = np.concatenate([P.m, np.full(k, P.m[0])]), np.concatenate([P.H, np.full(k, bH[0])])
+                    P.alpha = np.concatenate([P.alpha, np.full(k, alpha_min)])
+                    v_half, v_pred = np.concatenate([v_half, vel]), np.concatenate([v_pred, vel])
+                    u_half, u_pred = np.concatenate([u_half, u_in]), np.concatenate([u_pred, u_in])
+                    div_old = np.concatenate([div_old, np.zeros(k)])
+                    # fluid pushed back upstream of the inlet leaves the run
+                    stay = P.x[:, 0] >= inflow.wall
+                    P.keep(stay)
+                    v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
+                E_new = sph.evaluate(P, P.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
                 v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
                 if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
                     k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
                     raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                      f"internal energy {u_new[k]:.3g} at x = {x_new[k].round(6).tolist()} m.", P, E, t)
-                P.alpha = cullen_dehnen(P.alpha, E_new.div_v, E.div_v, E_new.curl_v, E_new.vsig, E_new.H, dt,
+                                      f"internal energy {u_new[k]:.3g} at x = {P.x[k].round(6).tolist()} m.", P, E, t)
+                P.alpha = cullen_dehnen(P.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
                                         alpha_max, alpha_min)
-                P.x, P.v, P.u, P.H, E = x_new, v_new, u_new, E_new.H, E_new
+                P.v, P.u, P.H, E = v_new, u_new, E_new.H, E_new
                 t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                 run.n_steps += 1
                 bar.update(dt)
@@ -194,6 +236,16 @@ def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
                      H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min))
+
+
+def _inflow_buffer(scene, P: Particles, dx: float, eta: float):
+    """The inflow buffer of the scene's inflow side, or None."""
+    sides = [s for s in scene.sides if isinstance(scene.boundaries[s], Inflow)]
+    if not sides:
+        return None
+    rho_in = scene.boundaries[sides[0]].state(0.0)[0]
+    depth = SEARCH_SLACK * max(P.H.max(), eta * (P.m[0] / rho_in) ** (1.0 / scene.dim)) * 1.5
+    return InflowBuffer(scene, sides[0], P.m[0], dx, depth)
 
 
 def _sample_points(scene) -> np.ndarray:
