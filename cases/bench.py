@@ -43,6 +43,20 @@ def fv_throughput(size: int = 512, t_end: float = 0.02) -> dict:
     }
 
 
+def sph_throughput(size: int = 320, t_end: float = 2e-3) -> dict:
+    """SPH particle-steps per second on 2D Sedov with ``size``² particles
+    (≥ 100k at the default), compile time excluded."""
+    scene = get("sedov", n_out=size)
+    ds = run(scene, "sph", dx=scene.dx, t_end=t_end, progress=False)
+    n = ds.attrs["n_elements"]
+    return {
+        "method": "sph", "case": "sedov", "n_elements": n, "metric": "particle_steps_per_s",
+        "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": "particles/s",
+        "compile_seconds": ds.attrs["compile_seconds"], "wall_seconds": ds.attrs["wall_seconds"],
+        "n_steps": ds.attrs["n_steps"], "precision": "float64",
+    }
+
+
 def time_to_accuracy(method: str) -> list[dict]:
     """Wall time ``method`` needs to bring L1(rho) on ``sod`` below each of
     ``TARGETS``: the run time of the coarsest resolution of ``SOD_LADDER``
@@ -72,6 +86,9 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
     if "fv" in methods():
         records.append(fv_throughput(128 if quick else size))
         records += time_to_accuracy("fv")
+    if "sph" in methods():
+        records.append(sph_throughput(64 if quick else 320))
+        records += time_to_accuracy("sph")
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:8s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"

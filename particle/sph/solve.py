@@ -17,6 +17,7 @@ from __future__ import annotations
 import time as _time
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from tqdm.auto import tqdm
 
@@ -38,6 +39,7 @@ from particle.sph.particles import (
     place_1d,
     place_2d,
 )
+from particle.sph.sampling import shepard_at_points
 from particle.sph.switches import cullen_dehnen
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
@@ -225,12 +227,15 @@ def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
     """Equal-mass particles over the domain (extended beyond outflow sides
     by the distance the fastest initial signal covers in the run)."""
     gamma, dim = scene.gamma, scene.dim
-    xs = np.linspace(*scene.domain[0], 257)
-    rho0, u0, _, p0 = (np.broadcast_to(np.asarray(a, float), xs.shape)
-                       for a in scene.initial(xs, None if dim == 1 else np.full_like(xs, scene.domain[1][0]), dx))
-    c_max = float(np.max(np.sqrt(gamma * p0 / rho0) + np.abs(u0)))
-    reach = min(1.2 * c_max * t_end + 8 * eta * dx, 2.0 * (scene.domain[0][1] - scene.domain[0][0]))
-    x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, extended_domain(scene, reach))
+    place = place_1d if dim == 1 else place_2d
+    reach = 0.0
+    if any(scene.boundaries[s] == "outflow" for s in scene.sides):
+        x, _ = place(scene, dx, scene.domain)
+        rho0, u0, v0, p0 = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape)
+                            for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
+        c_max = float(np.max(np.sqrt(gamma * p0 / rho0) + np.hypot(u0, v0)))
+        reach = min(1.2 * c_max * t_end + 8 * eta * dx, 2.0 * (scene.domain[0][1] - scene.domain[0][0]))
+    x, mass = place(scene, dx, extended_domain(scene, reach))
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
@@ -263,9 +268,7 @@ def _sample_points(scene) -> np.ndarray:
 def _pressure_at(sph, P, E, points) -> np.ndarray:
     """Pressure interpolated at ``points`` (n_points, dim)."""
     p = (sph.scene.gamma - 1.0) * E.rho * P.u
-    # scattered points: each is interpolated as its own one-cell grid
-    return np.array([sph.interpolate(P, E, p[None], tuple(pt[d:d + 1] for d in range(sph.dim)))[0].ravel()[0]
-                     for pt in points])
+    return shepard_at_points(points, P.x, p, P.m / E.rho, E.H, sph.kind, sph.dim, numba.get_num_threads())
 
 
 def _side_forces(scene, sampled) -> np.ndarray:
