@@ -14,6 +14,7 @@ import pytest
 import xarray as xr
 
 import cases
+import compare
 
 
 def cli(*args, cwd):
@@ -108,3 +109,14 @@ def test_cases_lists_every_scene(tmp_path):
     for name in ("sod", "shock_reflection", "wedge", "sedov", "noh", "blast_wall", "cylinder_shock"):
         assert name in listed
     assert "left_rho" in done.stdout and "theta_deg" in done.stdout  # parameters are listed too
+
+
+def test_solver_options_from_the_command_line_arrive_as_numbers(tmp_path):
+    # --option values are strings on the command line; the solvers must use the validated numbers
+    out = tmp_path / "sod_opt.nc"
+    proc = subprocess.run([sys.executable, "-m", "cases.cli", "run", "sod", "--method", "fv", "--dx", "5e-3",
+                           "--option", "cfl=0.4", "--option", "limiter=minmod", "-o", str(out), "--quiet"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    solver = json.loads(compare.read(out).attrs["parameters"])["solver"]
+    assert solver["cfl"] == 0.4 and solver["limiter"] == "minmod"

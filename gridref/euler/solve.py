@@ -71,7 +71,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         "limiter": choice("limiter", limiter, tuple(LIMITERS)), "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
-    dx, t_end, gamma = settings["dx"], settings["t_end"], scene.gamma
+    dx, t_end, gamma, cfl = settings["dx"], settings["t_end"], scene.gamma, settings["cfl"]
     grid = solver_grid(scene.domain, dx)
     X, Y = mesh(grid)
     rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))

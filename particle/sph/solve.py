@@ -157,6 +157,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
+    cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     sph = GasSPH(scene, kernel, eta, alpha_u)
     P = _initial_particles(scene, dx, eta, alpha_min, t_end)
     inflow = _inflow_buffer(scene, P, dx, eta)
