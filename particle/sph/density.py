@@ -50,7 +50,8 @@ def density_and_support(m, H, H_max, offsets, index, r, kind, dim, eta, n):
     converged = np.ones(n, dtype=np.bool_)
     for i in numba.prange(n):
         h = H[i]
-        lo, hi = 0.0, H_max[i]
+        # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]
+        lo, hi = H[i] * H[i] / H_max[i], H_max[i]
         ok = False
         for _ in range(MAX_ITERATIONS):
             rho, drho = _sums(i, h, m, offsets, index, r, kind, dim)

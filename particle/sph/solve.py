@@ -43,8 +43,8 @@ from particle.sph.sampling import shepard_at_points
 from particle.sph.switches import cullen_dehnen
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
-#: neighbour lists are built for this multiple of the current support
-SEARCH_SLACK = 1.3
+#: neighbour lists are first built for this multiple of the predicted support
+SEARCH_SLACK = 1.15
 
 
 @dataclass
@@ -107,15 +107,21 @@ class GasSPH:
         x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
         H_real = np.concatenate([P.H, bH])
         m_real = np.concatenate([P.m, np.full(bx.shape[0], P.m[0])])
-        gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, SEARCH_SLACK * H_real.max())
-        X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
-        m = np.concatenate([m_real, m_real[src]])
-        search = SEARCH_SLACK * np.concatenate([H_real, H_real[src]])
-        offsets, index, dx, r = neighbours(X, search, self.lo, self.hi, self.periodic)
-        rho, H, omega, converged = density_and_support(m, search / SEARCH_SLACK, search, offsets, index, r,
-                                                       self.kind, dim, self.eta, n)
-        if not converged.all():
-            k = int(np.flatnonzero(~converged)[0])
+        slack = SEARCH_SLACK
+        for _ in range(4):
+            # lists for ``slack`` times the guessed support; widen them if a solution reaches their edge
+            gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max())
+            X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
+            m = np.concatenate([m_real, m_real[src]])
+            guess = np.concatenate([H_real, H_real[src]])
+            offsets, index, dx, r = neighbours(X, slack * guess, self.lo, self.hi, self.periodic)
+            rho, H, omega, converged = density_and_support(m, guess, slack * guess, offsets, index, r,
+                                                           self.kind, dim, self.eta, n)
+            if converged.all() and np.all(H < (1.0 - 1e-6) * slack * guess[:n]):
+                break
+            slack *= 1.4
+        else:
+            k = int(np.flatnonzero(~converged | (H >= (1.0 - 1e-6) * slack * guess[:n]))[0])
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
         real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
                                                     (u, bu), (P.alpha, np.zeros(bx.shape[0])))]
@@ -180,6 +186,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 speed = E.vsig + np.linalg.norm(P.v, axis=1)
                 dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
                 v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
+                # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
+                P.H = E.H * np.exp(dt * E.div_v / dim)
                 v_pred, u_pred = P.v + dt * E.dvdt, P.u + dt * E.dudt
                 P.x = sph.wrap(P.x + dt * v_half)
                 div_old = E.div_v
@@ -199,7 +207,11 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     stay = P.x[:, 0] >= inflow.wall
                     P.keep(stay)
                     v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
-                E_new = sph.evaluate(P, P.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
+                try:
+                    E_new = sph.evaluate(P, P.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
+                except FloatingPointError as err:
+                    raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.",
+                                      P, E, t) from None
                 v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
                 if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
                     k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
