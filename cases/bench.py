@@ -29,29 +29,22 @@ def _machine() -> dict:
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "all")}
 
 
-def fv_throughput(size: int = 512, t_end: float = 0.02) -> dict:
-    """FV cell-updates per second on 2D Sedov ``size``² (float64) run to
-    ``t_end`` (about 160 steps at 512²), compile time excluded."""
-    scene = get("sedov", n_out=size)
-    ds = run(scene, "fv", dx=scene.dx, t_end=t_end, progress=False)
-    cells = ds.attrs["n_elements"]
-    return {
-        "method": "fv", "case": "sedov", "n_elements": cells, "metric": "cell_updates_per_s",
-        "value": cells * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": "cells/s",
-        "compile_seconds": ds.attrs["compile_seconds"], "wall_seconds": ds.attrs["wall_seconds"],
-        "n_steps": ds.attrs["n_steps"], "precision": "float64",
-    }
+#: method -> (metric, unit) of its throughput record
+THROUGHPUT = {"fv": ("cell_updates_per_s", "cells/s"), "sph": ("particle_steps_per_s", "particles/s")}
 
 
-def sph_throughput(size: int = 320, t_end: float = 2e-3) -> dict:
-    """SPH particle-steps per second on 2D Sedov with ``size``² particles
-    (≥ 100k at the default), compile time excluded."""
+def throughput(method: str, size: int, t_end: float) -> dict:
+    """Elements advanced per second by ``method`` on 2D Sedov with ``size``²
+    cells or particles (float64) run to ``t_end``, compile time excluded.
+    Defaults used by :func:`bench`: FV at 512² to 0.02 (about 160 steps),
+    SPH with 320² = 102 400 particles to 2e-3."""
     scene = get("sedov", n_out=size)
-    ds = run(scene, "sph", dx=scene.dx, t_end=t_end, progress=False)
+    ds = run(scene, method, dx=scene.dx, t_end=t_end, progress=False)
     n = ds.attrs["n_elements"]
+    metric, unit = THROUGHPUT[method]
     return {
-        "method": "sph", "case": "sedov", "n_elements": n, "metric": "particle_steps_per_s",
-        "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": "particles/s",
+        "method": method, "case": "sedov", "n_elements": n, "metric": metric,
+        "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit,
         "compile_seconds": ds.attrs["compile_seconds"], "wall_seconds": ds.attrs["wall_seconds"],
         "n_steps": ds.attrs["n_steps"], "precision": "float64",
     }
@@ -83,12 +76,10 @@ def time_to_accuracy(method: str) -> list[dict]:
 def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = False) -> list[dict]:
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
-    if "fv" in methods():
-        records.append(fv_throughput(128 if quick else size))
-        records += time_to_accuracy("fv")
-    if "sph" in methods():
-        records.append(sph_throughput(64 if quick else 320))
-        records += time_to_accuracy("sph")
+    sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 320, 2e-3)}
+    for method in (m for m in THROUGHPUT if m in methods()):
+        records.append(throughput(method, *sizes[method]))
+        records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:8s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"

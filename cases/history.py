@@ -1,16 +1,24 @@
-"""What a run records step by step, resampled onto the scene's probe times.
+"""What a run records, and how it becomes a result.
 
 Every solver, whatever its method, records after each step the pressure at
 the scene's probes and the force the gas exerts on each side of the domain;
 :class:`History` turns those records into the schema's ``p_probe``,
 ``wall_force`` and ``wall_impulse`` on the scene's ``t_probe``.
+:class:`RunRecord` keeps the output frames and the cost and assembles the
+schema Dataset, complete or partial (``status = "failed"``).
 """
 
 from __future__ import annotations
 
+import time as _time
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 
 import numpy as np
+import xarray as xr
+
+from cases.errors import SolverFailed
+from compare.schema import result
 
 
 @dataclass
@@ -63,3 +71,53 @@ class History:
             out["wall_force"] = np.interp(t_probe, self.force_t, force)
             out["wall_impulse"] = np.interp(t_probe, self.t, impulse)
         return out
+
+
+class RunRecord(ABC):
+    """What every solver keeps of a run: the output frames, the step
+    history, the step count and the cost; and how it becomes a schema
+    Dataset, complete or partial."""
+
+    def __init__(self, scene, method: str, settings: dict, compile_seconds: float, history: History):
+        self.scene, self.method, self.settings = scene, method, settings
+        self.compile_seconds, self.history = compile_seconds, history
+        self.frames, self.frame_times, self.n_steps = [], [], 0
+        self.t_start = _time.perf_counter()
+
+    def add_frame(self, fields: dict, t: float) -> None:
+        """Keep the fields (name -> array) of output time ``t``."""
+        self.frames.append(fields)
+        self.frame_times.append(t)
+
+    def failure(self, message: str, t: float, frame) -> SolverFailed:
+        """A :class:`SolverFailed` carrying the result up to time ``t``;
+        ``frame()`` gives the fields at ``t`` if no output frame holds them."""
+        if not self.frame_times or t > self.frame_times[-1]:
+            self.add_frame(frame(), t)
+        return SolverFailed(message, partial=self.dataset(status="failed", failure=message))
+
+    def dataset(self, status: str = "ok", failure: str | None = None) -> xr.Dataset:
+        """The schema Dataset of the run; the solver supplies its output
+        fields, scheme and attributes through :meth:`output`."""
+        wall = _time.perf_counter() - self.t_start
+        scene, out = self.scene, self.scene.output
+        fields, solid, scheme, n_elements, attrs = self.output()
+        t_probe = out.probe_times(self.frame_times[-1])
+        series = self.history.series(scene, t_probe)
+        attrs = {**attrs, "status": status}
+        if failure:
+            attrs["failure"] = failure
+        return result(
+            case=scene.name, method=self.method, scheme=scheme,
+            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields, solid=solid,
+            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
+            t_probe=t_probe if series else None, series=series,
+            parameters={"scene": scene.to_dict(), "solver": self.settings},
+            dx=self.settings["dx"], n_elements=n_elements, n_steps=self.n_steps, wall_seconds=wall,
+            compile_seconds=self.compile_seconds, **attrs,
+        )
+
+    @abstractmethod
+    def output(self):
+        """``(fields on the output grid, solid mask or None, scheme, n_elements,
+        extra attrs)`` of the frames kept so far."""

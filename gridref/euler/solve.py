@@ -3,19 +3,16 @@ schema Dataset on the scene's output grid."""
 
 from __future__ import annotations
 
-import time as _time
-
 import jax.numpy as jnp
 import numpy as np
 from tqdm.auto import tqdm
 
 from cases.checks import cfl as check_cfl
 from cases.checks import check_initial_state, choice, positive
-from cases.errors import InputError, SolverFailed
-from cases.history import History
+from cases.errors import InputError
+from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.regrid import to_output_grid
-from compare.schema import result
 from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
 from gridref.euler.riemann import RIEMANN_SOLVERS
@@ -106,12 +103,14 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         for t_out in out_times:
             while t < t_out * (1 - 1e-14):
                 if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
-                    raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), U, t)
+                    raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), t,
+                                      lambda: run.fields(U))
                 dt = min(dt_cfl, t_out - t)
                 U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
                 if not np.isfinite(dt_cfl):
                     # the last good state is kept for the partial result
-                    raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), U, t)
+                    raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), t,
+                                      lambda: run.fields(U))
                 U = U_new
                 t_new = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                 run.history.record(t, t_new, probes, forces)
@@ -120,9 +119,10 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
                 t = t_new
                 if run.n_steps % 50 == 0:
                     bar.set_postfix_str(f"{run.n_steps} steps")
-            run.snapshot(U, t)
+            run.add_frame(run.fields(U), t)
     except KeyboardInterrupt:
-        raise run.failure(f"fv run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", U, t) from None
+        raise run.failure(f"fv run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
+                          lambda: run.fields(U)) from None
     finally:
         bar.close()
     return run.dataset()
@@ -144,28 +144,18 @@ def _immersed(scene, grid, dx):
     return immersed_boundary(grid, scene.obstacles)
 
 
-class _Run:
-    """The record of one fv run: output frames, step history and cost."""
+class _Run(RunRecord):
+    """The record of one fv run; frames are kept on the solver grid and
+    regridded onto the output grid when the result is assembled."""
 
     def __init__(self, scene, grid, solid, settings, compile_seconds, history):
-        self.scene, self.grid, self.solid, self.settings = scene, grid, solid, settings
-        self.compile_seconds, self.history = compile_seconds, history
-        self.frames, self.frame_times, self.n_steps = [], [], 0
-        self.t_start = _time.perf_counter()
+        super().__init__(scene, "fv", settings, compile_seconds, history)
+        self.grid, self.solid = grid, solid
 
-    def snapshot(self, U, t):
-        self.frames.append(_fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid))
-        self.frame_times.append(t)
+    def fields(self, U):
+        return _fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
 
-    def failure(self, message, U, t):
-        """A :class:`SolverFailed` carrying the result up to the state ``U`` at ``t``."""
-        if not self.frame_times or t > self.frame_times[-1]:
-            self.snapshot(U, t)
-        return SolverFailed(message, partial=self.dataset(status="failed", failure=message))
-
-    def dataset(self, status="ok", failure=None):
-        """The schema Dataset of the run (fields regridded onto the output grid)."""
-        wall = _time.perf_counter() - self.t_start
+    def output(self):
         scene, out, s = self.scene, self.scene.output, self.settings
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
@@ -175,23 +165,10 @@ class _Run:
             fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
             if solid_out is not None:
                 fields[name][:, solid_out] = np.nan
-        t_probe = out.probe_times(self.frame_times[-1])
-        series = self.history.series(scene, t_probe)
-        attrs = {"regrid": how, "status": status}
-        if failure:
-            attrs["failure"] = failure
-        return result(
-            case=scene.name, method="fv",
-            scheme=f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
-                   f"{', ghost-cell immersed boundary' if self.solid is not None else ''}, "
-                   "a-posteriori positivity fallback to first order",
-            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields, solid=solid_out,
-            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
-            t_probe=t_probe if series else None, series=series,
-            parameters={"scene": scene.to_dict(), "solver": s},
-            dx=s["dx"], n_elements=int(np.prod(self.grid.shape)), n_steps=self.n_steps, wall_seconds=wall,
-            compile_seconds=self.compile_seconds, **attrs,
-        )
+        scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
+                  f"{', ghost-cell immersed boundary' if self.solid is not None else ''}, "
+                  "a-posteriori positivity fallback to first order")
+        return fields, solid_out, scheme, int(np.prod(self.grid.shape)), {"regrid": how}
 
 
 def _diagnose(U, gamma, grid, t, n_steps, dt, solid):

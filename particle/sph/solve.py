@@ -22,11 +22,10 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from cases.checks import choice, in_range, positive
-from cases.errors import InputError, SolverFailed
-from cases.history import History
+from cases.errors import InputError
+from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.deposit import shepard
-from compare.schema import result
 from particle import kernels
 from particle.neighbours import neighbours
 from particle.sph.density import density_and_support
@@ -210,13 +209,14 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 try:
                     E_new = sph.evaluate(P, P.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
                 except FloatingPointError as err:
-                    raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.",
-                                      P, E, t) from None
+                    raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
+                                      lambda: run.fields(P, E)) from None
                 v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
                 if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
                     k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
                     raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                      f"internal energy {u_new[k]:.3g} at x = {P.x[k].round(6).tolist()} m.", P, E, t)
+                                      f"internal energy {u_new[k]:.3g} at x = {P.x[k].round(6).tolist()} m.", t,
+                                      lambda: run.fields(P, E))
                 P.alpha = cullen_dehnen(P.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
                                         alpha_max, alpha_min)
                 P.v, P.u, P.H, E = v_new, u_new, E_new.H, E_new
@@ -227,10 +227,10 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     sampled = _pressure_at(sph, P, E, sample_points)
                     run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
                     t_sampled = t
-            run.snapshot(P, E, t)
+            run.add_frame(run.fields(P, E), t)
     except KeyboardInterrupt:
-        raise run.failure(f"sph run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.",
-                          P, E, t) from None
+        raise run.failure(f"sph run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
+                          lambda: run.fields(P, E)) from None
     finally:
         bar.close()
     return run.dataset()
@@ -294,51 +294,28 @@ def _side_forces(scene, sampled) -> np.ndarray:
     return walls * np.asarray(lengths)
 
 
-class _Run:
-    """The record of one SPH run: output frames, probe history and cost."""
+class _Run(RunRecord):
+    """The record of one SPH run; frames are deposited onto the output grid
+    as they are taken."""
 
     def __init__(self, scene, sph, settings, compile_seconds, history):
-        self.scene, self.sph, self.settings = scene, sph, settings
-        self.compile_seconds, self.history = compile_seconds, history
-        self.frames, self.frame_times, self.n_steps, self.n_particles = [], [], 0, 0
-        self.t_start = _time.perf_counter()
+        super().__init__(scene, "sph", settings, compile_seconds, history)
+        self.sph, self.n_particles = sph, 0
 
-    def snapshot(self, P: Particles, E: Evaluation, t: float):
-        scene, gamma = self.scene, self.scene.gamma
-        p = (gamma - 1.0) * E.rho * P.u
-        values = {"rho": E.rho, "u": P.v[:, 0], "p": p, "e": P.u}
+    def fields(self, P: Particles, E: Evaluation) -> dict:
+        scene = self.scene
+        values = {"rho": E.rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * E.rho * P.u, "e": P.u}
         if scene.dim == 2:
             values["v"] = P.v[:, 1]
         axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
-        grid = self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)
-        self.frames.append(dict(zip(scene.fields, grid)))
-        self.frame_times.append(t)
         self.n_particles = P.x.shape[0]
+        return dict(zip(scene.fields, self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)))
 
-    def failure(self, message, P, E, t):
-        if not self.frame_times or t > self.frame_times[-1]:
-            self.snapshot(P, E, t)
-        return SolverFailed(message, partial=self.dataset(status="failed", failure=message))
-
-    def dataset(self, status="ok", failure=None):
-        wall = _time.perf_counter() - self.t_start
-        scene, out, s = self.scene, self.scene.output, self.settings
-        fields = {name: np.stack([f[name] for f in self.frames]) for name in scene.fields}
-        t_probe = out.probe_times(self.frame_times[-1])
-        series = self.history.series(scene, t_probe)
-        attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
-                 "status": status}
-        if failure:
-            attrs["failure"] = failure
-        return result(
-            case=scene.name, method="sph",
-            scheme=f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
-                   f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
-                   "predictor-corrector leapfrog, mirror-particle walls",
-            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields,
-            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
-            t_probe=t_probe if series else None, series=series,
-            parameters={"scene": scene.to_dict(), "solver": s},
-            dx=s["dx"], n_elements=self.n_particles, n_steps=self.n_steps, wall_seconds=wall,
-            compile_seconds=self.compile_seconds, **attrs,
-        )
+    def output(self):
+        s = self.settings
+        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
+                  f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
+                  "predictor-corrector leapfrog, mirror-particle walls")
+        attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H"}
+        return fields, None, scheme, self.n_particles, attrs
