@@ -7,7 +7,6 @@ import pytest
 
 from compare.convergence import gci, observed_order, observed_order_three, richardson
 
-
 # --- Celik et al. 2008, J. Fluids Eng. 130, 078001, Table 1 -----------------
 # Column 1 (dimensionless reattachment length, monotonic convergence):
 #   N1, N2, N3 = 18000, 8000, 4500 (2D, so r = (N_fine/N_coarse)^(1/2));
