@@ -175,6 +175,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     compile_seconds = _time.perf_counter() - t0
     P.H = E.H
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
+    run.totals0 = _totals(P)
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t, t_sampled = 0.0, 0.0
     bar = tqdm(total=t_end, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
@@ -233,7 +234,13 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                           lambda: run.fields(P, E)) from None
     finally:
         bar.close()
+    run.totals = _totals(P)
     return run.dataset()
+
+
+def _totals(P: Particles) -> tuple[float, float]:
+    """Total mass Σm and total energy Σ m (u + |v|²/2) of the fluid particles."""
+    return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
 def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
@@ -301,6 +308,7 @@ class _Run(RunRecord):
     def __init__(self, scene, sph, settings, compile_seconds, history):
         super().__init__(scene, "sph", settings, compile_seconds, history)
         self.sph, self.n_particles = sph, 0
+        self.totals0 = self.totals = None
 
     def fields(self, P: Particles, E: Evaluation) -> dict:
         scene = self.scene
@@ -318,4 +326,8 @@ class _Run(RunRecord):
                   f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
                   "predictor-corrector leapfrog, mirror-particle walls")
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H"}
+        closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
+        if closed and self.totals is not None:
+            (m0, e0), (m1, e1) = self.totals0, self.totals
+            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, None, scheme, self.n_particles, attrs
