@@ -164,7 +164,7 @@ SIGMA.setflags(write=False)
 
 
 @numba.njit(cache=True, inline="always")
-def _f(kind, q):
+def shape(kind, q):
     """Shape function f(q) for 0 ≤ q < 1 (no range check)."""
     if kind == 0:
         t = 1.0 - q
@@ -204,7 +204,7 @@ def _f(kind, q):
 
 
 @numba.njit(cache=True, inline="always")
-def _df(kind, q):
+def shape_derivative(kind, q):
     """Derivative f'(q) for 0 ≤ q < 1 (no range check)."""
     if kind == 0:
         # f' = −22 q (1−q)^7 (1 + 7q + 16q²)
@@ -266,7 +266,7 @@ def kernel_w(kind, r, H, dim):
     q = r / H
     if q >= 1.0:
         return 0.0
-    return SIGMA[kind, dim] / _hpow(H, dim) * _f(kind, q)
+    return SIGMA[kind, dim] / _hpow(H, dim) * shape(kind, q)
 
 
 @numba.njit(cache=True)
@@ -279,7 +279,7 @@ def kernel_dwdr(kind, r, H, dim):
     q = r / H
     if q >= 1.0:
         return 0.0
-    return SIGMA[kind, dim] / (_hpow(H, dim) * H) * _df(kind, q)
+    return SIGMA[kind, dim] / (_hpow(H, dim) * H) * shape_derivative(kind, q)
 
 
 @numba.njit(cache=True)
@@ -294,7 +294,7 @@ def kernel_dwdh(kind, r, H, dim):
     q = r / H
     if q >= 1.0:
         return 0.0
-    return -SIGMA[kind, dim] / (_hpow(H, dim) * H) * (dim * _f(kind, q) + q * _df(kind, q))
+    return -SIGMA[kind, dim] / (_hpow(H, dim) * H) * (dim * shape(kind, q) + q * shape_derivative(kind, q))
 
 
 @numba.njit(cache=True)
@@ -309,8 +309,8 @@ def kernel_eval(kind, r, H, dim):
     if q >= 1.0:
         return 0.0, 0.0, 0.0
     s = SIGMA[kind, dim] / _hpow(H, dim)
-    fq = _f(kind, q)
-    dfq = _df(kind, q)
+    fq = shape(kind, q)
+    dfq = shape_derivative(kind, q)
     return s * fq, s / H * dfq, -s / H * (dim * fq + q * dfq)
 
 

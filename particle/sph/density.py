@@ -16,7 +16,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from particle.kernels import kernel_dwdh, kernel_w
+from particle.kernels import SIGMA, shape, shape_derivative
 
 #: relative tolerance of the H iteration
 TOLERANCE = 1e-8
@@ -25,15 +25,21 @@ MAX_ITERATIONS = 60
 
 @numba.njit(cache=True)
 def _sums(i, H, m, offsets, index, r, kind, dim):
-    """Σ_j m_j W(r_ij, H) and Σ_j m_j ∂W/∂H over the neighbours of i (self included)."""
-    rho = m[i] * kernel_w(kind, 0.0, H, dim)
-    drho = m[i] * kernel_dwdh(kind, 0.0, H, dim)
+    """Σ_j m_j W(r_ij, H) and Σ_j m_j ∂W/∂H over the neighbours of i (self
+    included), with the kernel's prefactor σ_d/H^d taken out of the sum:
+    W = σ_d/H^d f(q), ∂W/∂H = −σ_d/H^(d+1) (d f(q) + q f'(q))."""
+    inv = 1.0 / H
+    f0 = shape(kind, 0.0)
+    sum_f = m[i] * f0
+    sum_g = m[i] * dim * f0
     for k in range(offsets[i], offsets[i + 1]):
         if r[k] < H:
-            j = index[k]
-            rho += m[j] * kernel_w(kind, r[k], H, dim)
-            drho += m[j] * kernel_dwdh(kind, r[k], H, dim)
-    return rho, drho
+            q = r[k] * inv
+            fq = shape(kind, q)
+            sum_f += m[index[k]] * fq
+            sum_g += m[index[k]] * (dim * fq + q * shape_derivative(kind, q))
+    scale = SIGMA[kind, dim] * inv ** dim
+    return scale * sum_f, -scale * inv * sum_g
 
 
 @numba.njit(parallel=True, cache=True)
