@@ -364,26 +364,26 @@ def skewed_grad(kind, rx, ry, H, dim, lam_x, lam_y):
 # --------------------------------------------------------------------------
 
 
+@numba.njit(cache=True, inline="always")
+def _eval_one(kind, r, H, dim, which):
+    """W (which 0), ∂W/∂r (1) or ∂W/∂H (2)."""
+    if which == 0:
+        return kernel_w(kind, r, H, dim)
+    elif which == 1:
+        return kernel_dwdr(kind, r, H, dim)
+    return kernel_dwdh(kind, r, H, dim)
+
+
 @numba.njit(cache=True, parallel=True)
 def _eval_many(kind, r, H, dim, which, out):
     for k in prange(r.size):
-        if which == 0:
-            out[k] = kernel_w(kind, r[k], H[k], dim)
-        elif which == 1:
-            out[k] = kernel_dwdr(kind, r[k], H[k], dim)
-        else:
-            out[k] = kernel_dwdh(kind, r[k], H[k], dim)
+        out[k] = _eval_one(kind, r[k], H[k], dim, which)
 
 
 @numba.njit(cache=True)
 def _eval_few(kind, r, H, dim, which, out):
     for k in range(r.size):
-        if which == 0:
-            out[k] = kernel_w(kind, r[k], H[k], dim)
-        elif which == 1:
-            out[k] = kernel_dwdr(kind, r[k], H[k], dim)
-        else:
-            out[k] = kernel_dwdh(kind, r[k], H[k], dim)
+        out[k] = _eval_one(kind, r[k], H[k], dim, which)
 
 
 _PARALLEL_MIN = 20000  # below this, starting the thread pool costs more than it saves

@@ -57,10 +57,17 @@ class Particles:
     H: np.ndarray
     alpha: np.ndarray
 
+    FIELDS = ("x", "v", "u", "m", "H", "alpha")
+
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
-        for name in ("x", "v", "u", "m", "H", "alpha"):
+        for name in self.FIELDS:
             setattr(self, name, getattr(self, name)[mask])
+
+    def append(self, other: "Particles"):
+        """Add the particles of ``other`` after these."""
+        for name in self.FIELDS:
+            setattr(self, name, np.concatenate([getattr(self, name), getattr(other, name)]))
 
 
 @dataclass
@@ -193,16 +200,11 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 div_old = E.div_v
                 if inflow:
                     # buffer particles that crossed the inlet join the fluid with the imposed state
-                    x_in = inflow.advance(t, dt)
-                    bx, bv, _, bu, bH = inflow.particles(t + dt, eta)
-                    k = x_in.shape[0]
-                    vel, u_in = np.tile(bv[:1], (k, 1)), np.full(k, bu[0] if bu.size else 0.0)
-                    P.x, P.v, P.u = np.concatenate([P.x, x_in]), np.concatenate([P.v, vel]), np.concatenate([P.u, u_in])
-                    P.m, P.H = np.concatenate([P.m, np.full(k, P.m[0])]), np.concatenate([P.H, np.full(k, bH[0])])
-                    P.alpha = np.concatenate([P.alpha, np.full(k, alpha_min)])
-                    v_half, v_pred = np.concatenate([v_half, vel]), np.concatenate([v_pred, vel])
-                    u_half, u_pred = np.concatenate([u_half, u_in]), np.concatenate([u_pred, u_in])
-                    div_old = np.concatenate([div_old, np.zeros(k)])
+                    new = _entering(inflow, t, dt, eta, P.m[0], alpha_min)
+                    P.append(new)
+                    v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
+                    u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
+                    div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
                     # fluid pushed back upstream of the inlet leaves the run
                     stay = P.x[:, 0] >= inflow.wall
                     P.keep(stay)
@@ -261,6 +263,18 @@ def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
                      H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min))
+
+
+def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
+    """The buffer particles that cross the inlet over ``[t, t + dt]``, as fluid
+    particles carrying the imposed state of ``t + dt``."""
+    x = inflow.advance(t, dt)
+    _, bv, _, bu, bH = inflow.particles(t + dt, eta)
+    k = x.shape[0]
+    if k == 0:
+        return Particles(x, np.zeros((0, x.shape[1])), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
+    return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
+                     H=np.full(k, bH[0]), alpha=np.full(k, alpha_min))
 
 
 def _inflow_buffer(scene, P: Particles, dx: float, eta: float):
