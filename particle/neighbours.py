@@ -41,7 +41,7 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["cell_grid", "neighbours", "sort_order"]
+__all__ = ["cell_grid", "neighbour_lists", "neighbours", "periods", "separation", "separations", "sort_order"]
 
 # Cells are made this much wider than max H / reach, so that a particle put
 # one cell off by round-off still finds every neighbour.
@@ -159,6 +159,19 @@ def _image(d, box, half):
 
 
 @numba.njit(cache=True, inline="always")
+def separation(x, i, j, box, half):
+    """``(d0, d1, d2, r)``: ``x_i − x_j`` per axis (0 beyond ``x``'s dim),
+    the minimum image on periodic axes (``half``, half the period, finite;
+    positions within one period of each other), and its length. The one
+    place the particle kernels get pair geometry from."""
+    dim = x.shape[1]
+    d0 = _image(x[i, 0] - x[j, 0], box[0], half[0])
+    d1 = _image(x[i, 1] - x[j, 1], box[1], half[1]) if dim > 1 else 0.0
+    d2 = _image(x[i, 2] - x[j, 2], box[2], half[2]) if dim > 2 else 0.0
+    return d0, d1, d2, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
+@numba.njit(cache=True, inline="always")
 def _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half):
     """Number of kk in [a, b) with |x_i − x_kk| < max(H_i, H_kk) (self included)."""
     cnt = 0
@@ -184,53 +197,40 @@ def _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half):
 
 
 @numba.njit(cache=True, inline="always")
-def _collect_run(a, b, k, p, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half,
-                 bk, b0, b1, b2, br):
-    """Append the neighbours kk ≠ k in [a, b) to the scratch lists from slot p
+def _collect_run(a, b, k, p, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half, bk):
+    """Append the neighbours kk ≠ k in [a, b) to the scratch list from slot p
     on (branch-free compaction: every candidate is written, the slot only
     advances on a hit); returns the next free slot."""
     if dim == 1:
         for kk in range(a, b):
             d0 = _image(xi0 - xs0[kk], box[0], half[0])
             h = max(Hi, Hs[kk])
-            r2 = d0 * d0
             bk[p] = kk
-            b0[p] = d0
-            br[p] = r2
-            p += (r2 < h * h) & (kk != k)
+            p += (d0 * d0 < h * h) & (kk != k)
     elif dim == 2:
         for kk in range(a, b):
             d0 = _image(xi0 - xs0[kk], box[0], half[0])
             d1 = _image(xi1 - xs1[kk], box[1], half[1])
             h = max(Hi, Hs[kk])
-            r2 = d0 * d0 + d1 * d1
             bk[p] = kk
-            b0[p] = d0
-            b1[p] = d1
-            br[p] = r2
-            p += (r2 < h * h) & (kk != k)
+            p += (d0 * d0 + d1 * d1 < h * h) & (kk != k)
     else:
         for kk in range(a, b):
             d0 = _image(xi0 - xs0[kk], box[0], half[0])
             d1 = _image(xi1 - xs1[kk], box[1], half[1])
             d2 = _image(xi2 - xs2[kk], box[2], half[2])
             h = max(Hi, Hs[kk])
-            r2 = d0 * d0 + d1 * d1 + d2 * d2
             bk[p] = kk
-            b0[p] = d0
-            b1[p] = d1
-            b2[p] = d2
-            br[p] = r2
-            p += (r2 < h * h) & (kk != k)
+            p += (d0 * d0 + d1 * d1 + d2 * d2 < h * h) & (kk != k)
     return p
 
 
 @numba.njit(cache=True, inline="always")
-def _visit(k, xs0, xs1, xs2, Hs, dim, cid3, start, ncell, per, box, half, s,
-           collect, bk, b0, b1, b2, br):
-    """Scan the cells around sorted particle k. collect=False: return
-    (neighbour count, candidate count); collect=True: fill the scratch lists
-    and return (neighbour count, 0)."""
+def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, s, collect, bk):
+    """Scan the ``s`` cells around sorted particle k (support ``Hs[k]``;
+    candidates' supports ``Hcand``). collect=False: return (neighbour count,
+    candidate count); collect=True: fill the scratch list and return
+    (neighbour count, 0)."""
     ya0, yb0, ya1, yb1 = _runs(cid3[k, 1], ncell[1], per[1], s)
     za0, zb0, za1, zb1 = _runs(cid3[k, 2], ncell[2], per[2], s)
     xa0, xb0, xa1, xb1 = _runs(cid3[k, 0], ncell[0], per[0], s)
@@ -259,10 +259,10 @@ def _visit(k, xs0, xs1, xs2, Hs, dim, cid3, start, ncell, per, box, half, s,
                         a = start[row + xa]
                         b = start[row + xb + 1]
                         if collect:
-                            cnt = _collect_run(a, b, k, cnt, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs,
-                                               dim, box, half, bk, b0, b1, b2, br)
+                            cnt = _collect_run(a, b, k, cnt, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hcand,
+                                               dim, box, half, bk)
                         else:
-                            cnt += _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs,
+                            cnt += _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hcand,
                                               dim, box, half)
                             ncand += b - a
     if collect:
@@ -271,17 +271,20 @@ def _visit(k, xs0, xs1, xs2, Hs, dim, cid3, start, ncell, per, box, half, s,
 
 
 @numba.njit(cache=True, parallel=True)
-def _count_pass(xs0, xs1, xs2, Hs, dim, order, cid3, start, ncell, per, box, half, s):
-    """Neighbour count of every particle (by original index) and the largest
-    candidate count (the scratch size the fill pass needs)."""
+def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk):
+    """Neighbour count of every particle (by original index) found in its
+    own stencil of ``sk[k]`` cells, and the largest candidate count (the
+    scratch size the fill pass needs). Rows of small particles see the
+    large ones only within their own support (``Hsmall``); the rest of
+    those pairs come from the large particles' rows (:func:`_scatter_large`)."""
     n = Hs.shape[0]
+    Hnone = np.zeros(n)
     counts = np.empty(n, dtype=np.int64)
     ncand = np.empty(n, dtype=np.int64)
     e = np.empty(0, dtype=np.int64)
-    f = np.empty(0, dtype=np.float64)
     for k in prange(n):
-        c, m = _visit(k, xs0, xs1, xs2, Hs, dim, cid3, start, ncell, per, box, half, s,
-                      False, e, f, f, f, f)
+        Hcand = Hsmall if not big[k] else Hnone
+        c, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], False, e)
         counts[order[k]] = c
         ncand[k] = m
     return counts, ncand.max()
@@ -300,45 +303,84 @@ def _prefix(counts):
 _CHUNK = 256
 
 
-@numba.njit(cache=True, inline="always")
-def _emit(q, u, order, bk, b0, b1, b2, br, dim, index, dx, r):
-    """Copy scratch entry u to output slot q."""
-    index[q] = order[bk[u]]
-    dx[q, 0] = b0[u]
-    if dim > 1:
-        dx[q, 1] = b1[u]
-        if dim > 2:
-            dx[q, 2] = b2[u]
-    r[q] = math.sqrt(br[u])
-
-
 @numba.njit(cache=True, parallel=True)
-def _fill_pass(xs0, xs1, xs2, Hs, dim, order, cid3, start, ncell, per, box, half, s,
-               maxc, offsets, index, dx, r, sort_lists):
-    """Write every particle's list at ``offsets[i]``; chunks of sorted
-    particles share one set of scratch lists."""
+def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk,
+               maxc, offsets, index, sort_lists, only_large):
+    """Write every particle's (``only_large``: every large particle's)
+    stencil neighbours from ``offsets[i]`` on; chunks of sorted particles
+    share one scratch list."""
     n = Hs.shape[0]
+    Hnone = np.zeros(n)
     nchunk = (n + _CHUNK - 1) // _CHUNK
     for ch in prange(nchunk):
         bk = np.empty(maxc, dtype=np.int64)
-        b0 = np.empty(maxc, dtype=np.float64)
-        b1 = np.empty(maxc if dim > 1 else 0, dtype=np.float64)
-        b2 = np.empty(maxc if dim > 2 else 0, dtype=np.float64)
-        br = np.empty(maxc, dtype=np.float64)
         for k in range(ch * _CHUNK, min(n, (ch + 1) * _CHUNK)):
-            p, _ = _visit(k, xs0, xs1, xs2, Hs, dim, cid3, start, ncell, per, box, half, s,
-                          True, bk, b0, b1, b2, br)
+            if only_large and not big[k]:
+                continue
+            Hcand = Hsmall if not big[k] else Hnone
+            p, _ = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], True, bk)
             q = offsets[order[k]]
+            for t in range(p):
+                index[q + t] = order[bk[t]]
             if sort_lists:
-                keys = np.empty(p, dtype=np.int64)
-                for t in range(p):
-                    keys[t] = order[bk[t]]
-                perm = np.argsort(keys, kind="mergesort")
-                for t in range(p):
-                    _emit(q + t, perm[t], order, bk, b0, b1, b2, br, dim, index, dx, r)
-            else:
-                for t in range(p):
-                    _emit(q + t, t, order, bk, b0, b1, b2, br, dim, index, dx, r)
+                index[q:q + p] = np.sort(index[q:q + p])
+
+
+@numba.njit(cache=True)
+def _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, stencil, index, box, half, count_only, extra):
+    """Pairs (j, i large) with H_j ≤ r < H_i: found only in the large
+    particle's row, added to j's row after its stencil neighbours
+    (``count_only``: counted per j into ``extra``; otherwise written, with
+    ``extra`` as the fill cursor). r² is computed exactly as j's own scan
+    computes it, so no pair is lost or doubled. Serial in a fixed order:
+    the lists do not depend on the thread count."""
+    dim = 1 if xs1.size == 0 else (2 if xs2.size == 0 else 3)
+    for i in large:
+        ki = rank[i]
+        for q in range(offsets[i], offsets[i] + stencil[i]):
+            j = index[q]
+            kj = rank[j]
+            d0 = _image(xs0[kj] - xs0[ki], box[0], half[0])
+            r2 = d0 * d0
+            if dim > 1:
+                d1 = _image(xs1[kj] - xs1[ki], box[1], half[1])
+                r2 = d0 * d0 + d1 * d1
+                if dim > 2:
+                    d2 = _image(xs2[kj] - xs2[ki], box[2], half[2])
+                    r2 = d0 * d0 + d1 * d1 + d2 * d2
+            if r2 < Hs[kj] * Hs[kj]:
+                continue
+            if not count_only:
+                index[offsets[j] + stencil[j] + extra[j]] = i
+            extra[j] += 1
+
+
+@numba.njit(cache=True, parallel=True)
+def _sort_rows(rows, offsets, index):
+    """Sort the lists of ``rows`` by neighbour id."""
+    for t in prange(rows.size):
+        a, b = offsets[rows[t]], offsets[rows[t] + 1]
+        index[a:b] = np.sort(index[a:b])
+
+
+@numba.njit(cache=True, parallel=True)
+def _separations(x, offsets, index, box, half):
+    """``x_i − x_j`` (the minimum image where ``half`` is finite, for
+    positions any number of periods apart) and its length."""
+    n, dim = x.shape
+    dx = np.empty((index.size, dim))
+    r = np.empty(index.size)
+    for i in prange(n):
+        for q in range(offsets[i], offsets[i + 1]):
+            r2 = 0.0
+            for a in range(dim):
+                d = x[i, a] - x[index[q], a]
+                if half[a] < math.inf:
+                    d -= box[a] * math.floor(d / box[a] + 0.5)
+                dx[q, a] = d
+                r2 += d * d
+            r[q] = math.sqrt(r2)
+    return dx, r
 
 
 # --------------------------------------------------------------------------
@@ -421,7 +463,7 @@ def cell_grid(x, lo, hi, periodic, cell_size):
     return origin, width, ncell, per, box
 
 
-def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
+def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
     r"""All pairs with ``r_ij < max(H_i, H_j)``, as CSR lists, by a cell linked list.
 
     Parameters
@@ -450,15 +492,16 @@ def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
         Particle i's neighbours are ``index[offsets[i]:offsets[i+1]]``.
     index : (m,) int64
         Neighbour ids ``j`` (never ``i`` itself).
-    dx : (m, dim) float64
-        ``x_i − x_j``, minimum image on periodic axes.
-    r : (m,) float64
-        ``|dx|``.
+
+    :func:`separations` gives ``x_i − x_j`` and ``r_ij`` for the lists (at
+    these or later positions); :func:`neighbours` returns both at once.
 
     The criterion ``r_ij < max(H_i, H_j)`` is symmetric (j is in i's list iff
     i is in j's). Cell list after Hockney & Eastwood (1988) §8-4 and
     Monaghan (2005) §7: cells ≥ max H / reach wide, counting sort,
-    (2·reach+1)^dim-cell stencil, two parallel passes (count, fill).
+    (2·reach+1)^dim-cell stencil, two parallel passes (count, fill). When a
+    few particles are much wider than the rest the cells are sized for the
+    rest (:func:`_cell_support`) and the wide ones scan wider stencils.
     Cost O(N · neighbours).
     """
     x = _as_positions(x)
@@ -484,7 +527,7 @@ def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
         raise InputError(f"reach must be an integer in [1, 4]; got {reach!r}.")
 
     if n == 0:
-        return (np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros((0, dim)), np.zeros(0))
+        return np.zeros(1, np.int64), np.zeros(0, np.int64)
     Hmax = float(H.max())
     for a in range(dim):
         if per[a] and 2.0 * Hmax > hi[a] - lo[a]:
@@ -494,20 +537,78 @@ def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
             )
     H = np.ascontiguousarray(H)
     s = int(reach)
-    origin, width, ncell, per3, box = cell_grid(x, lo, hi, per, Hmax / s)
+    H_cell = _cell_support(H)
+    origin, width, ncell, per3, box = cell_grid(x, lo, hi, per, H_cell / s)
     cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
     start, order = _counting_sort(cid, int(np.prod(ncell)))
     xs0, xs1, xs2, Hs, cid3 = _gather(x, H, order, cid, ncell, origin, per3, box)
     half = np.where(per3, 0.5 * box, np.inf)
-    counts, maxc = _count_pass(xs0, xs1, xs2, Hs, dim, order, cid3, start, ncell, per3, box, half, s)
-    offsets = _prefix(counts)
+    # particles wider than the cells scan a stencil wide enough for their own support
+    is_large = H > H_cell
+    big = is_large[order]
+    cell_width = width[:dim].min()
+    sk = np.where(big, np.ceil(Hs / (cell_width / _MARGIN)).astype(np.int64), s)
+    Hsmall = np.where(big, 0.0, Hs)
+    counts, maxc = _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk)
+    large = np.flatnonzero(is_large)
+    rank = np.empty(n, dtype=np.int64)
+    rank[order] = np.arange(n)
+    extra = np.zeros(n, dtype=np.int64)
+    if large.size:
+        # the large particles' rows first: they hold the pairs the small rows miss
+        big_offsets = _prefix(np.where(is_large, counts, 0))
+        m = int(big_offsets[-1])
+        big_index = np.empty(m, dtype=np.int64)
+        _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half,
+                   sk, int(maxc), big_offsets, big_index, False, True)
+        _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, counts, big_index, box, half, True, extra)
+    offsets = _prefix(counts + extra)
     m = int(offsets[-1])
     index = np.empty(m, dtype=np.int64)
-    dx = np.empty((m, dim), dtype=np.float64)
-    r = np.empty(m, dtype=np.float64)
-    _fill_pass(xs0, xs1, xs2, Hs, dim, order, cid3, start, ncell, per3, box, half, s,
-               int(maxc), offsets, index, dx, r, bool(sort_lists))
+    _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
+               int(maxc), offsets, index, bool(sort_lists), False)
+    if large.size:
+        _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, counts, index, box, half, False,
+                       np.zeros(n, dtype=np.int64))
+        if sort_lists:
+            _sort_rows(np.flatnonzero(extra), offsets, index)
+    return offsets, index
+
+
+def periods(lo, hi, periodic, dim):
+    """``(box, half)`` for :func:`separation`: the box size per axis and half
+    the period on periodic axes (+inf elsewhere)."""
+    lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
+    box = hi - lo
+    return box, np.where(_as_periodic(periodic, dim), 0.5 * box, np.inf)
+
+
+def separations(x, offsets, index, lo, hi, periodic=False):
+    """``(dx, r)`` of CSR neighbour lists: ``dx = x_i − x_j`` (m, dim),
+    minimum image on periodic axes, and ``r = |dx|`` (m,)."""
+    x = _as_positions(x)
+    box, half = periods(lo, hi, periodic, x.shape[1])
+    return _separations(x, np.asarray(offsets, np.int64), np.asarray(index, np.int64), box, half)
+
+
+def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
+    """:func:`neighbour_lists` and their :func:`separations`:
+    ``(offsets, index, dx, r)`` with ``dx = x_i − x_j`` and ``r = |dx|``."""
+    offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, reach=reach)
+    dx, r = separations(x, offsets, index, lo, hi, periodic)
     return offsets, index, dx, r
+
+
+def _cell_support(H) -> float:
+    """The support the cells are sized for: ``max H``, unless the widest
+    particles are few (H above the 95th percentile by more than a quarter),
+    in which case the 95th percentile; the wider ones then scan stencils of
+    their own. (One cell size for all would make every particle test
+    ``(max H / H)^dim`` times too many candidates, e.g. around a blast's
+    rarefied core.)"""
+    H_max = float(H.max())
+    H_q = float(np.partition(H, int(0.95 * (H.size - 1)))[int(0.95 * (H.size - 1))])
+    return H_max if H_max <= 1.25 * H_q else H_q
 
 
 def sort_order(x, lo, hi, cell_size):

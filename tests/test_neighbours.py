@@ -74,6 +74,26 @@ def test_matches_brute_force(dim, periodic, reach):
     check_against_brute(x, H, lo, hi, periodic, reach=reach)
 
 
+@pytest.mark.parametrize("dim, periodic", CONFIGS)
+@pytest.mark.parametrize("sort_lists", [False, True])
+def test_a_few_wide_particles_scan_stencils_of_their_own(dim, periodic, sort_lists):
+    """Supports spread over a factor 8 (a blast's rarefied core): the cells are
+    sized for the bulk, the widest particles search further, and the pairs
+    only they reach are added to the narrow particles' lists."""
+    rng = np.random.default_rng(7 * dim + sum(periodic))
+    n = {1: 400, 2: 800, 3: 900}[dim]
+    lo = np.zeros(dim)
+    hi = np.array([1.0, 1.3, 1.1][:dim])
+    x = lo + rng.random((n, dim)) * (hi - lo)
+    H = rng.uniform(0.03, 0.05, n) * {1: 1.0, 2: 2.0, 3: 3.0}[dim]
+    wide = rng.random(n) < 0.04
+    H[wide] *= rng.uniform(2.0, 8.0, wide.sum())
+    H = np.minimum(H, 0.5)
+    offsets, index, _, _ = check_against_brute(x, H, lo, hi, periodic, sort_lists=sort_lists)
+    if sort_lists:
+        assert all(np.all(np.diff(index[offsets[i]:offsets[i + 1]]) > 0) for i in range(n))
+
+
 def test_periodic_positions_outside_the_box_are_wrapped():
     rng = np.random.default_rng(1)
     x = rng.uniform(-1.0, 2.0, (400, 2))  # up to one period outside [0, 1)

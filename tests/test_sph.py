@@ -7,7 +7,7 @@ import cases
 from compare.convergence import observed_order
 from compare.metrics import field_error
 from particle import kernels
-from particle.neighbours import neighbours
+from particle.neighbours import neighbour_lists, periods
 from particle.sph.density import density_and_support
 
 SOD = cases.get("sod")
@@ -56,8 +56,9 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
     x = ((np.arange(n) + 0.5) * dx)[:, None]
     H = np.full(n, 3.0 * dx)
     search = np.full(n, 1.3 * eta * dx)
-    offsets, index, _, r = neighbours(x, search, np.array([0.0]), np.array([n * dx]), np.array([True]))
-    rho, H, omega, converged = density_and_support(np.full(n, m), H, search, offsets, index, r,
+    box, half = periods([0.0], [n * dx], [True], 1)
+    offsets, index = neighbour_lists(x, search, [0.0], [n * dx], [True])
+    rho, H, omega, converged = density_and_support(x, box, half, np.full(n, m), H, search, offsets, index,
                                                    kernels.KERNELS["wendland_c6"], 1, eta, n)
     assert converged.all()
     np.testing.assert_allclose(H, eta * m / rho, rtol=1e-7)

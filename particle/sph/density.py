@@ -17,6 +17,7 @@ import numba
 import numpy as np
 
 from particle.kernels import SIGMA, shape, shape_derivative
+from particle.neighbours import separation
 
 #: relative tolerance of the H iteration
 TOLERANCE = 1e-8
@@ -24,62 +25,78 @@ MAX_ITERATIONS = 60
 
 
 @numba.njit(cache=True)
-def _sums(i, H, m, offsets, index, r, kind, dim):
+def _sums(i, H, m, r, neighbour, kind, dim):
     """Σ_j m_j W(r_ij, H) and Σ_j m_j ∂W/∂H over the neighbours of i (self
-    included), with the kernel's prefactor σ_d/H^d taken out of the sum:
+    included; ``r`` and ``neighbour`` list the others), with the kernel's
+    prefactor σ_d/H^d taken out of the sum:
     W = σ_d/H^d f(q), ∂W/∂H = −σ_d/H^(d+1) (d f(q) + q f'(q))."""
     inv = 1.0 / H
     f0 = shape(kind, 0.0)
     sum_f = m[i] * f0
     sum_g = m[i] * dim * f0
-    for k in range(offsets[i], offsets[i + 1]):
+    for k in range(r.size):
         if r[k] < H:
             q = r[k] * inv
             fq = shape(kind, q)
-            sum_f += m[index[k]] * fq
-            sum_g += m[index[k]] * (dim * fq + q * shape_derivative(kind, q))
+            sum_f += m[neighbour[k]] * fq
+            sum_g += m[neighbour[k]] * (dim * fq + q * shape_derivative(kind, q))
     scale = SIGMA[kind, dim] * inv ** dim
     return scale * sum_f, -scale * inv * sum_g
 
 
+_CHUNK = 256
+
+
 @numba.njit(parallel=True, cache=True)
-def density_and_support(m, H, H_max, offsets, index, r, kind, dim, eta, n):
+def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, eta, n):
     """``(rho, H, omega, converged)`` for the first ``n`` particles (the
-    fluid; ghosts follow them and only serve as neighbours).
+    fluid; ghosts follow them and only serve as neighbours) at positions
+    ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`).
 
     ``H`` is the starting guess and ``H_max`` the largest support the
     neighbour lists were built for (the solution is kept below it).
+    Distances are computed once per particle into a scratch list shared by
+    a chunk of particles, then every iteration reads them.
     """
     rho_out = np.empty(n)
     H_out = np.empty(n)
     omega = np.empty(n)
     converged = np.ones(n, dtype=np.bool_)
-    for i in numba.prange(n):
-        h = H[i]
-        # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]
-        lo, hi = H[i] * H[i] / H_max[i], H_max[i]
-        ok = False
-        for _ in range(MAX_ITERATIONS):
-            rho, drho = _sums(i, h, m, offsets, index, r, kind, dim)
-            target = m[i] * (eta / h) ** dim
-            f = rho - target
-            # f grows with H: keep a bracket, f > 0 means H is too large
-            if f > 0.0:
-                hi = min(hi, h)
-            else:
-                lo = max(lo, h)
-            df = drho + dim * target / h
-            h_new = h - f / df if df != 0.0 else 0.5 * (lo + hi)
-            if not (lo < h_new < hi):
-                h_new = 0.5 * (lo + hi)
-            if abs(h_new - h) <= TOLERANCE * h:
+    longest = 0
+    for i in range(n):
+        longest = max(longest, offsets[i + 1] - offsets[i])
+    for chunk in numba.prange((n + _CHUNK - 1) // _CHUNK):
+        scratch = np.empty(longest)
+        for i in range(chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK)):
+            a, b = offsets[i], offsets[i + 1]
+            for k in range(a, b):
+                scratch[k - a] = separation(x, i, index[k], box, half)[3]
+            r, neighbour = scratch[: b - a], index[a:b]
+            h = H[i]
+            # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]
+            lo, hi = H[i] * H[i] / H_max[i], H_max[i]
+            ok = False
+            for _ in range(MAX_ITERATIONS):
+                rho, drho = _sums(i, h, m, r, neighbour, kind, dim)
+                target = m[i] * (eta / h) ** dim
+                f = rho - target
+                # f grows with H: keep a bracket, f > 0 means H is too large
+                if f > 0.0:
+                    hi = min(hi, h)
+                else:
+                    lo = max(lo, h)
+                df = drho + dim * target / h
+                h_new = h - f / df if df != 0.0 else 0.5 * (lo + hi)
+                if not (lo < h_new < hi):
+                    h_new = 0.5 * (lo + hi)
+                if abs(h_new - h) <= TOLERANCE * h:
+                    h = h_new
+                    ok = True
+                    break
                 h = h_new
-                ok = True
-                break
-            h = h_new
-        rho, drho = _sums(i, h, m, offsets, index, r, kind, dim)
-        H_out[i] = h
-        rho_out[i] = rho
-        omega[i] = 1.0 + h / (dim * rho) * drho
-        converged[i] = ok
+            rho, drho = _sums(i, h, m, r, neighbour, kind, dim)
+            H_out[i] = h
+            rho_out[i] = rho
+            omega[i] = 1.0 + h / (dim * rho) * drho
+            converged[i] = ok
     return rho_out, H_out, omega, converged

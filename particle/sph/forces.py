@@ -26,12 +26,14 @@ import numba
 import numpy as np
 
 from particle.kernels import kernel_dwdr
+from particle.neighbours import separation
 
 
 @numba.njit(parallel=True, cache=True)
-def rates(x, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, dx, r, kind, dim, n):
+def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n):
     """``(dvdt, dudt, div_v, curl_v, vsig_max)`` for the first ``n``
-    particles (the fluid; ghosts after them only serve as neighbours)."""
+    particles (the fluid; ghosts after them only serve as neighbours) at
+    positions ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`)."""
     dvdt = np.zeros((n, dim))
     dudt = np.zeros(n)
     div_v = np.zeros(n)
@@ -46,7 +48,7 @@ def rates(x, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, dx, r
         vsig_i = c[i]
         for k in range(offsets[i], offsets[i + 1]):
             j = index[k]
-            rij = r[k]
+            d0, d1, _, rij = separation(x, i, j, box, half)
             if rij <= 0.0:
                 continue
             Fi = kernel_dwdr(kind, rij, H[i], dim) if rij < H[i] else 0.0
@@ -54,12 +56,11 @@ def rates(x, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, dx, r
             if Fi == 0.0 and Fj == 0.0:
                 continue
             pj_term = p[j] / (omega[j] * rho[j] * rho[j])
-            w = 0.0  # v_ij · x̂_ij
-            ex0 = dx[k, 0] / rij
-            ex1 = dx[k, 1] / rij if dim > 1 else 0.0
+            ex0 = d0 / rij
+            ex1 = d1 / rij
             dv0 = v[i, 0] - v[j, 0]
             dv1 = v[i, 1] - v[j, 1] if dim > 1 else 0.0
-            w = dv0 * ex0 + dv1 * ex1
+            w = dv0 * ex0 + dv1 * ex1  # v_ij · x̂_ij
             Fbar = 0.5 * (Fi + Fj)
             rho_bar = 0.5 * (rho[i] + rho[j])
             # pressure force (grad-h variational form)

@@ -27,7 +27,7 @@ from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.deposit import shepard
 from particle import kernels
-from particle.neighbours import neighbours
+from particle.neighbours import neighbour_lists, periods
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
@@ -93,6 +93,7 @@ class GasSPH:
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
         self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
+        self.box, self.half = periods(self.lo, self.hi, self.periodic, self.dim)
 
     def wrap(self, x):
         """Positions with periodic axes wrapped back into the domain."""
@@ -120,9 +121,9 @@ class GasSPH:
             X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
             m = np.concatenate([m_real, m_real[src]])
             guess = np.concatenate([H_real, H_real[src]])
-            offsets, index, dx, r = neighbours(X, slack * guess, self.lo, self.hi, self.periodic)
-            rho, H, omega, converged = density_and_support(m, guess, slack * guess, offsets, index, r,
-                                                           self.kind, dim, self.eta, n)
+            offsets, index = neighbour_lists(X, slack * guess, self.lo, self.hi, self.periodic)
+            rho, H, omega, converged = density_and_support(X, self.box, self.half, m, guess, slack * guess,
+                                                           offsets, index, self.kind, dim, self.eta, n)
             if converged.all() and np.all(H < (1.0 - 1e-6) * slack * guess[:n]):
                 break
             slack *= 1.4
@@ -134,9 +135,9 @@ class GasSPH:
         rho_all, H_all, omega_all, u_all, alpha_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
         c = np.sqrt(gamma * p / rho_all)
-        dvdt, dudt, div_v, curl_v, vsig = rates(X, V, m, u_all, rho_all, p, c, omega_all, H_all, alpha_all,
-                                                np.full(alpha_all.shape, self.alpha_u), offsets, index, dx, r,
-                                                self.kind, dim, n)
+        dvdt, dudt, div_v, curl_v, vsig = rates(X, self.box, self.half, V, m, u_all, rho_all, p, c, omega_all,
+                                                H_all, alpha_all, np.full(alpha_all.shape, self.alpha_u),
+                                                offsets, index, self.kind, dim, n)
         return Evaluation(rho, H, dvdt, dudt, div_v, curl_v, vsig)
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
