@@ -69,9 +69,6 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
     np.testing.assert_allclose(rho, m / dx, rtol=1e-3)
 
 
-def test_sph_refuses_a_scene_it_cannot_model():
-    with pytest.raises(cases.errors.Unsupported, match="obstacle"):
-        cases.run(cases.get("wedge"), "sph", progress=False)
 
 
 @pytest.mark.parametrize("Ms", [1.5, 3.2])

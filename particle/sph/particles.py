@@ -10,16 +10,41 @@ import numpy as np
 
 from cases.errors import InputError, Unsupported
 from cases.scene import Inflow
+from particle.sph.walls import off_surface
 
 
-def extended_domain(scene, reach: float) -> list[tuple[float, float]]:
+def open_sides(scene, dx: float) -> tuple[str, ...]:
+    """The ``outflow`` sides the initial flow does not enter through. Beyond
+    them stand zero-gradient ghosts (:func:`mirror_ghosts`) and particles
+    that cross them are removed; through the other outflow sides gas flows
+    in (Noh's converging flow), so the particle set is extended beyond them
+    (:func:`extended_domain`)."""
+    out = []
+    for d, side in enumerate(scene.sides):
+        if scene.boundaries[side] != "outflow":
+            continue
+        axis, upper = d // 2, d % 2 == 1
+        along = np.linspace(*scene.domain[1 - axis], 65) if scene.dim == 2 else np.zeros(1)
+        edge = np.full(along.shape, scene.domain[axis][1 if upper else 0])
+        x, y = (edge, along) if axis == 0 else (along, edge)
+        rho, u, v, p = (np.broadcast_to(np.asarray(a, float), x.shape)
+                        for a in scene.initial(x, y if scene.dim == 2 else None, dx))
+        normal_speed = (u if axis == 0 else v) * (1.0 if upper else -1.0)
+        if np.all(normal_speed >= -1e-12 * np.sqrt(scene.gamma * p / rho)):
+            out.append(side)
+    return tuple(out)
+
+
+def extended_domain(scene, reach: float, open_: tuple[str, ...] = ()) -> list[tuple[float, float]]:
     """The region filled with fluid particles: the scene's domain, extended
-    by ``reach`` beyond every ``outflow`` side so that the particles inside
-    the domain never feel the free end of the particle set."""
+    by ``reach`` beyond every ``outflow`` side not in ``open_`` so that the
+    particles inside the domain never feel the free end of the particle set."""
     box = []
     for d, (lo, hi) in enumerate(scene.domain):
-        lo_kind, hi_kind = scene.boundaries[scene.sides[2 * d]], scene.boundaries[scene.sides[2 * d + 1]]
-        box.append((lo - (reach if lo_kind == "outflow" else 0.0), hi + (reach if hi_kind == "outflow" else 0.0)))
+        lo_side, hi_side = scene.sides[2 * d], scene.sides[2 * d + 1]
+        grow = [reach if scene.boundaries[side] == "outflow" and side not in open_ else 0.0
+                for side in (lo_side, hi_side)]
+        box.append((lo - grow[0], hi + grow[1]))
     return box
 
 
@@ -38,8 +63,11 @@ def place_1d(scene, dx: float, box) -> tuple[np.ndarray, float]:
 
 
 def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
-    """A square lattice of spacing ``dx`` over ``box`` outside the obstacles;
-    the initial density must be uniform (checked)."""
+    """A square lattice of spacing ``dx`` over ``box`` outside the obstacles
+    (``φ > 0``; the lattice points inside them are the walls' virtual
+    particles), points closer than ``dx/2`` to a surface moved off it to
+    ``dx/2`` (:func:`particle.sph.walls.off_surface`); the initial density
+    must be uniform (checked)."""
     (x0, x1), (y0, y1) = box
     nx, ny = int(round((x1 - x0) / dx)), int(round((y1 - y0) / dx))
     X, Y = np.meshgrid(x0 + (np.arange(nx) + 0.5) * (x1 - x0) / nx, y0 + (np.arange(ny) + 0.5) * (y1 - y0) / ny)
@@ -49,27 +77,31 @@ def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
         raise InputError(f"scene {scene.name}: sph in 2D needs a uniform initial density for now "
                          f"(found {rho.min():g} to {rho.max():g} kg m-3).")
     for shape in scene.obstacles:
-        x = x[shape.signed_distance(x[:, 0], x[:, 1]) > 0.5 * dx]
-    return x, rho.max() * (x1 - x0) * (y1 - y0) / (nx * ny)
+        x = x[shape.signed_distance(x[:, 0], x[:, 1]) > 0.0]
+    return off_surface(scene.obstacles, x, 0.5 * dx), rho.max() * (x1 - x0) * (y1 - y0) / (nx * ny)
 
 
-def mirror_ghosts(scene, x, v, reach):
-    """Mirror particles across every reflecting (plane) side: positions,
-    velocities with the normal component reversed, and the index of each
-    ghost's source particle. Sides are mirrored in turn, so a corner between
-    two walls gets the double mirror image."""
+def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
+    """Mirror particles across every reflecting side and every side of
+    ``open_``: positions, velocities (normal component reversed at a
+    reflecting wall, kept at an open side: a zero-gradient, transmissive
+    boundary like the finite-volume one), and the index of each ghost's
+    source particle. Sides are mirrored in turn, so a corner between two
+    such sides gets the double mirror image."""
     src = np.arange(x.shape[0])
     gx, gv, gsrc = [x], [v], [src]
     for d, side in enumerate(scene.sides):
         axis, upper = d // 2, d % 2 == 1
-        if scene.boundaries[side] != "reflect":
+        reflect = scene.boundaries[side] == "reflect"
+        if not (reflect or side in open_):
             continue
         wall = scene.domain[axis][1 if upper else 0]
         all_x, all_v, all_src = np.concatenate(gx), np.concatenate(gv), np.concatenate(gsrc)
         near = (all_x[:, axis] > wall - reach) if upper else (all_x[:, axis] < wall + reach)
         mx, mv = all_x[near].copy(), all_v[near].copy()
         mx[:, axis] = 2.0 * wall - mx[:, axis]
-        mv[:, axis] = -mv[:, axis]
+        if reflect:
+            mv[:, axis] = -mv[:, axis]
         gx.append(mx)
         gv.append(mv)
         gsrc.append(all_src[near])
@@ -77,10 +109,19 @@ def mirror_ghosts(scene, x, v, reach):
     return np.concatenate(gx)[n:], np.concatenate(gv)[n:], np.concatenate(gsrc)[n:]
 
 
+def inside_open_sides(scene, x, open_: tuple[str, ...]) -> np.ndarray:
+    """True for the particles that have not crossed any side of ``open_``."""
+    keep = np.ones(x.shape[0], dtype=bool)
+    for side in open_:
+        d = scene.sides.index(side)
+        axis, upper = d // 2, d % 2 == 1
+        wall = scene.domain[axis][1 if upper else 0]
+        keep &= (x[:, axis] <= wall) if upper else (x[:, axis] >= wall)
+    return keep
+
+
 def check_supported(scene):
     """Refuse, in one sentence, what this SPH solver does not model yet."""
     for side in scene.sides:
         if isinstance(scene.boundaries[side], Inflow) and side != "x_lo":
             raise Unsupported(f"scene {scene.name}: sph has inflow buffers on side x_lo only, not {side}.")
-    if scene.obstacles:
-        raise Unsupported(f"scene {scene.name}: sph has no obstacle walls yet.")

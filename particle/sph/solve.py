@@ -34,12 +34,15 @@ from particle.sph.inflow import InflowBuffer
 from particle.sph.particles import (
     check_supported,
     extended_domain,
+    inside_open_sides,
     mirror_ghosts,
+    open_sides,
     place_1d,
     place_2d,
 )
 from particle.sph.sampling import shepard_at_points
 from particle.sph.switches import cullen_dehnen
+from particle.sph.walls import reflect_into_fluid, virtual_state, walls
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
 #: neighbour lists are first built for this multiple of the predicted support
@@ -48,7 +51,9 @@ SEARCH_SLACK = 1.15
 
 @dataclass
 class Particles:
-    """The fluid particles of a run (ghosts are rebuilt every evaluation)."""
+    """The fluid particles of a run (ghosts are rebuilt every evaluation);
+    ``rho`` is the density of the last evaluation, which the walls'
+    virtual particles are extrapolated from."""
 
     x: np.ndarray
     v: np.ndarray
@@ -56,8 +61,9 @@ class Particles:
     m: np.ndarray
     H: np.ndarray
     alpha: np.ndarray
+    rho: np.ndarray
 
-    FIELDS = ("x", "v", "u", "m", "H", "alpha")
+    FIELDS = ("x", "v", "u", "m", "H", "alpha", "rho")
 
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
@@ -86,8 +92,9 @@ class Evaluation:
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
 
-    def __init__(self, scene, kernel: str, eta: float, alpha_u: float):
+    def __init__(self, scene, kernel: str, eta: float, alpha_u: float, open_=(), wall=None, inlet=None):
         self.scene, self.kernel, self.eta, self.alpha_u = scene, kernel, eta, alpha_u
+        self.open, self.wall, self.inlet = open_, wall, inlet
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -95,40 +102,54 @@ class GasSPH:
         self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
         self.box, self.half = periods(self.lo, self.hi, self.periodic, self.dim)
 
+    def retained(self, x) -> np.ndarray:
+        """True for the particles still in the run: not beyond an open side,
+        nor pushed back upstream of the inlet."""
+        keep = inside_open_sides(self.scene, x, self.open)
+        if self.inlet is not None:
+            keep &= x[:, 0] >= self.inlet
+        return keep
+
     def wrap(self, x):
         """Positions with periodic axes wrapped back into the domain."""
         for d in np.flatnonzero(self.periodic):
             x[:, d] = self.lo[d] + np.mod(x[:, d] - self.lo[d], self.hi[d] - self.lo[d])
         return x
 
-    def evaluate(self, P: Particles, x, v, u, imposed=None) -> Evaluation:
+    def evaluate(self, P: Particles, x, v, u, buffer=None) -> Evaluation:
         """Density, support and rates of change of the fluid particles at the
-        state ``(x, v, u)``; ``P`` supplies masses, the support guess and the
-        viscosity switch. ``imposed`` holds particles whose state is given,
-        not computed — the inflow buffer ``(x, v, rho, u, H)`` — which act as
-        neighbours only; mirror ghosts are made of both."""
+        state ``(x, v, u)``; ``P`` supplies masses, the support guess, the
+        viscosity switch and the last density. Particles whose state is
+        imposed, not computed — the inflow ``buffer`` ``(x, v, rho, u, H)``
+        and the walls' virtual particles — act as neighbours only; mirror
+        ghosts are made of all of them."""
         n, dim, gamma = x.shape[0], self.dim, self.scene.gamma
-        if imposed is None:
-            imposed = (np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0))
-        bx, bv, brho, bu, bH = imposed
+        imposed = [(np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))]
+        if buffer is not None:
+            imposed.append((*buffer, np.full(buffer[0].shape[0], P.m[0])))
+        if self.wall is not None:
+            imposed.append(virtual_state(self.wall, x, v, P.rho, (gamma - 1.0) * P.rho * u, P.m, P.H, self.kind,
+                                         self.eta, gamma))
+        bx, bv, brho, bu, bH, bm = (np.concatenate(parts) for parts in zip(*imposed))
         x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
         H_real = np.concatenate([P.H, bH])
-        m_real = np.concatenate([P.m, np.full(bx.shape[0], P.m[0])])
+        m_real = np.concatenate([P.m, bm])
         slack = SEARCH_SLACK
         for _ in range(4):
             # lists for ``slack`` times the guessed support; widen them if a solution reaches their edge
-            gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max())
+            gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max(), self.open)
             X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
             m = np.concatenate([m_real, m_real[src]])
             guess = np.concatenate([H_real, H_real[src]])
             offsets, index = neighbour_lists(X, slack * guess, self.lo, self.hi, self.periodic)
             rho, H, omega, converged = density_and_support(X, self.box, self.half, m, guess, slack * guess,
                                                            offsets, index, self.kind, dim, self.eta, n)
-            if converged.all() and np.all(H < (1.0 - 1e-6) * slack * guess[:n]):
+            failed = ~converged | (H >= (1.0 - 1e-6) * slack * guess[:n])
+            if not failed.any():
                 break
             slack *= 1.4
         else:
-            k = int(np.flatnonzero(~converged | (H >= (1.0 - 1e-6) * slack * guess[:n]))[0])
+            k = int(np.flatnonzero(failed)[0])
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
         real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
                                                     (u, bu), (P.alpha, np.zeros(bx.shape[0])))]
@@ -171,9 +192,12 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
-    sph = GasSPH(scene, kernel, eta, alpha_u)
-    P = _initial_particles(scene, dx, eta, alpha_min, t_end)
+    open_ = open_sides(scene, dx)
+    P, box = _initial_particles(scene, dx, eta, alpha_min, t_end, open_)
     inflow = _inflow_buffer(scene, P, dx, eta)
+    # virtual particles reach twice the initial support into the solids
+    sph = GasSPH(scene, kernel, eta, alpha_u, open_, walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None,
+                 inflow.wall if inflow else None)
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) every numba kernel
     E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
@@ -181,7 +205,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
-    P.H = E.H
+    P.H, P.rho = E.H, E.rho
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
@@ -198,6 +222,10 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 P.H = E.H * np.exp(dt * E.div_v / dim)
                 v_pred, u_pred = P.v + dt * E.dvdt, P.u + dt * E.dudt
                 P.x = sph.wrap(P.x + dt * v_half)
+                if sph.wall is not None:
+                    # the safeguard: a particle the walls did not stop is mirrored back out of the solid
+                    P.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, P.x, v_half, v_pred)
+                    run.reflections += reflected
                 div_old = E.div_v
                 if inflow:
                     # buffer particles that crossed the inlet join the fluid with the imposed state
@@ -206,8 +234,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
                     u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
                     div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
-                    # fluid pushed back upstream of the inlet leaves the run
-                    stay = P.x[:, 0] >= inflow.wall
+                stay = sph.retained(P.x)
+                if not stay.all():
                     P.keep(stay)
                     v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
                 try:
@@ -223,7 +251,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                                       lambda: run.fields(P, E))
                 P.alpha = cullen_dehnen(P.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
                                         alpha_max, alpha_min)
-                P.v, P.u, P.H, E = v_new, u_new, E_new.H, E_new
+                P.v, P.u, P.H, P.rho, E = v_new, u_new, E_new.H, E_new.rho, E_new
                 t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                 run.n_steps += 1
                 bar.update(dt)
@@ -246,36 +274,38 @@ def _totals(P: Particles) -> tuple[float, float]:
     return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
-def _initial_particles(scene, dx, eta, alpha_min, t_end) -> Particles:
-    """Equal-mass particles over the domain (extended beyond outflow sides
-    by the distance the fastest initial signal covers in the run)."""
+def _initial_particles(scene, dx, eta, alpha_min, t_end, open_) -> tuple[Particles, list]:
+    """Equal-mass particles over the domain (extended beyond the outflow
+    sides not in ``open_`` by the distance the fastest initial signal covers
+    in the run), and the box they fill."""
     gamma, dim = scene.gamma, scene.dim
     place = place_1d if dim == 1 else place_2d
     reach = 0.0
-    if any(scene.boundaries[s] == "outflow" for s in scene.sides):
+    if any(scene.boundaries[s] == "outflow" and s not in open_ for s in scene.sides):
         x, _ = place(scene, dx, scene.domain)
         rho0, u0, v0, p0 = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape)
                             for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
         c_max = float(np.max(np.sqrt(gamma * p0 / rho0) + np.hypot(u0, v0)))
         reach = min(1.2 * c_max * t_end + 8 * eta * dx, 2.0 * (scene.domain[0][1] - scene.domain[0][0]))
-    x, mass = place(scene, dx, extended_domain(scene, reach))
+    box = extended_domain(scene, reach, open_)
+    x, mass = place(scene, dx, box)
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
-                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min))
+                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), rho=rho), box
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
     """The buffer particles that cross the inlet over ``[t, t + dt]``, as fluid
     particles carrying the imposed state of ``t + dt``."""
     x = inflow.advance(t, dt)
-    _, bv, _, bu, bH = inflow.particles(t + dt, eta)
+    _, bv, brho, bu, bH = inflow.particles(t + dt, eta)
     k = x.shape[0]
     if k == 0:
-        return Particles(x, np.zeros((0, x.shape[1])), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
+        return Particles(x, np.zeros((0, x.shape[1])), *(np.zeros(0) for _ in range(5)))
     return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
-                     H=np.full(k, bH[0]), alpha=np.full(k, alpha_min))
+                     H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), rho=np.full(k, brho[0]))
 
 
 def _inflow_buffer(scene, P: Particles, dx: float, eta: float):
@@ -322,8 +352,12 @@ class _Run(RunRecord):
 
     def __init__(self, scene, sph, settings, compile_seconds, history):
         super().__init__(scene, "sph", settings, compile_seconds, history)
-        self.sph, self.n_particles = sph, 0
+        self.sph, self.n_particles, self.reflections = sph, 0, 0
         self.totals0 = self.totals = None
+        self.solid = None
+        if scene.obstacles:
+            X, Y = np.meshgrid(scene.output.x, scene.output.y)
+            self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
     def fields(self, P: Particles, E: Evaluation) -> dict:
         scene = self.scene
@@ -332,17 +366,23 @@ class _Run(RunRecord):
             values["v"] = P.v[:, 1]
         axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
         self.n_particles = P.x.shape[0]
-        return dict(zip(scene.fields, self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)))
+        grids = self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)
+        if self.solid is not None:
+            grids[:, self.solid] = np.nan
+        return dict(zip(scene.fields, grids))
 
     def output(self):
         s = self.settings
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
         scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
                   f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
-                  "predictor-corrector leapfrog, mirror-particle walls")
+                  "predictor-corrector leapfrog, mirror-particle plane walls"
+                  + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H"}
+        if self.solid is not None:
+            attrs["wall_reflections"] = self.reflections
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0, self.totals
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
-        return fields, None, scheme, self.n_particles, attrs
+        return fields, self.solid, scheme, self.n_particles, attrs
