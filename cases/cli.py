@@ -48,6 +48,8 @@ def cmd_run(args) -> int:
         settings["t_end"] = args.t_end
     if args.cfl is not None:
         settings["cfl"] = args.cfl
+    if args.particles:
+        settings["particles"] = str(Path(args.output).with_suffix("")) + "_particles.nc"
     settings.update(_settings(args.option))
     try:
         ds = run(scene, args.method, **settings)
@@ -103,6 +105,8 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("--cfl", type=float)
     r.add_argument("--seed", type=int, help="random seed (particle methods)")
     r.add_argument("-o", "--output", required=True)
+    r.add_argument("--particles", action="store_true",
+                   help="also write the last particle state beside the output, as <output>_particles.nc (sph)")
     r.add_argument("--quiet", action="store_true")
     r.set_defaults(func=cmd_run)
 

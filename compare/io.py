@@ -16,6 +16,24 @@ def write(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     go to a temporary file in the same folder, which is then renamed, so a
     reader never sees a half-written result."""
     validate(ds)
+    return _write_atomically(ds, path)
+
+
+#: variables of a particle snapshot (SPEC §2), each on the dimension ``particle``
+PARTICLE_VARIABLES = ("x", "y", "u", "v", "rho", "p", "m", "h", "kind")
+
+
+def write_particles(ds: xr.Dataset, path: str | os.PathLike) -> Path:
+    """Write a particle snapshot (SPEC §2: ``x, y, u, v, rho, p, m, h`` and
+    ``kind`` on the dimension ``particle``; ``y, v`` only in 2D) atomically."""
+    need = [n for n in PARTICLE_VARIABLES if n not in ("y", "v")]
+    missing = [n for n in need if n not in ds or ds[n].dims != ("particle",)]
+    if missing:
+        raise SchemaError(f"a particle snapshot needs {', '.join(missing)} on the dimension 'particle'.")
+    return _write_atomically(ds, path)
+
+
+def _write_atomically(ds: xr.Dataset, path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

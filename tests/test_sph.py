@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import cases
 from compare.convergence import observed_order
@@ -105,3 +106,31 @@ def test_sedov_2d_shock_radius_error_falls_with_resolution():
     assert abs(fine) < abs(coarse)
     assert abs(fine) < 0.07
     assert ds.attrs["energy_drift"] <= 1e-3
+
+
+def wedge_sph(theta, dx, tmp_path):
+    """A wedge run and the signed distance of every fluid particle to the wedge at the end."""
+    scene = cases.get("wedge", theta_deg=theta)
+    snapshot = tmp_path / f"wedge_{theta:g}.nc"
+    ds = cases.run(scene, "sph", dx=dx, progress=False, particles=snapshot)
+    with xr.open_dataset(snapshot) as p:
+        fluid = p.kind.values == 0
+        phi = scene.obstacles[0].signed_distance(p.x.values[fluid], p.y.values[fluid])
+    return ds, phi
+
+
+def test_wedge_shock_angle_and_no_particle_inside_the_wedge(tmp_path):
+    # skew-gradient wall: M1 = 3.5 over a 20 degree wedge at 50 particles per metre
+    ds, phi = wedge_sph(20.0, 0.02, tmp_path)
+    assert ds.attrs["shock_angle_deg"] == pytest.approx(ds.attrs["shock_angle_exact_deg"], abs=1.5)
+    assert phi.min() >= 0.0
+    # the output grid is NaN inside the solid
+    assert np.isnan(ds.rho.isel(time=-1).values[ds.solid.values == 1]).all()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("theta", [10.0, 20.0, 30.0])
+def test_wedge_shock_angle_within_one_and_a_half_degrees(theta, tmp_path):
+    ds, phi = wedge_sph(theta, 0.01, tmp_path)
+    assert ds.attrs["shock_angle_deg"] == pytest.approx(ds.attrs["shock_angle_exact_deg"], abs=1.5)
+    assert phi.min() >= 0.0

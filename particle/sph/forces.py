@@ -14,8 +14,10 @@ approaching pairs (w_ij = v_ij·x̂_ij < 0), v_sig = ½(c_i + c_j − β w_ij),
 v^u_sig = sqrt(|p_i − p_j|/ρ̄_ij).
 
 Also returned: ∇·v and |∇×v| (2D) per particle, ``-(1/(Ω_i ρ_i)) Σ_j m_j v_ij·∇_i W(H_i)``
-and its curl analogue, and the largest signal speed a particle sees (for
-the time step and the viscosity switch).
+and its curl analogue, the largest signal speed a particle sees (for
+the time step and the switches), and the Laplacian of u (Brookshaw 1985),
+``∇²u_i = 2 Σ_j (m_j/ρ_j) (u_i − u_j) (∂W(r_ij, H_i)/∂r)/r_ij``, for the
+conduction switch.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from particle.neighbours import separation
 
 @numba.njit(parallel=True, cache=True)
 def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n):
-    """``(dvdt, dudt, div_v, curl_v, vsig_max)`` for the first ``n``
+    """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u)`` for the first ``n``
     particles (the fluid; ghosts after them only serve as neighbours) at
     positions ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`)."""
     dvdt = np.zeros((n, dim))
@@ -39,12 +41,14 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     div_v = np.zeros(n)
     curl_v = np.zeros(n)
     vsig_max = np.zeros(n)
+    lap_u = np.zeros(n)
     for i in numba.prange(n):
         pi_term = p[i] / (omega[i] * rho[i] * rho[i])
         acc = np.zeros(dim)
         du = 0.0
         div = 0.0
         curl = 0.0
+        lap = 0.0
         vsig_i = c[i]
         for k in range(offsets[i], offsets[i + 1]):
             j = index[k]
@@ -85,6 +89,7 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
             du += m[j] * alpha_u_ij * vsig_u * (u[i] - u[j]) / rho_bar * Fbar
             # velocity divergence and curl with the particle's own kernel
             div -= m[j] * w * Fi
+            lap += 2.0 * m[j] / rho[j] * (u[i] - u[j]) * Fi / rij
             if dim > 1:
                 curl += m[j] * (dv0 * ex1 - dv1 * ex0) * Fi
         for d in range(dim):
@@ -93,4 +98,5 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
         div_v[i] = div / (omega[i] * rho[i])
         curl_v[i] = abs(curl) / (omega[i] * rho[i])
         vsig_max[i] = vsig_i
-    return dvdt, dudt, div_v, curl_v, vsig_max
+        lap_u[i] = lap
+    return dvdt, dudt, div_v, curl_v, vsig_max, lap_u

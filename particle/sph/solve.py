@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+import xarray as xr
 from tqdm.auto import tqdm
 
 from cases.checks import choice, in_range, positive
@@ -26,6 +27,7 @@ from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.deposit import shepard
+from compare.io import write_particles
 from particle import kernels
 from particle.neighbours import neighbour_lists, periods
 from particle.sph.density import density_and_support
@@ -41,10 +43,12 @@ from particle.sph.particles import (
     place_2d,
 )
 from particle.sph.sampling import shepard_at_points
-from particle.sph.switches import cullen_dehnen
+from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import reflect_into_fluid, virtual_state, walls
 
-SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress")
+SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles")
+#: particle kinds in a snapshot
+KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: neighbour lists are first built for this multiple of the predicted support
 SEARCH_SLACK = 1.15
 
@@ -61,9 +65,10 @@ class Particles:
     m: np.ndarray
     H: np.ndarray
     alpha: np.ndarray
+    alpha_u: np.ndarray
     rho: np.ndarray
 
-    FIELDS = ("x", "v", "u", "m", "H", "alpha", "rho")
+    FIELDS = ("x", "v", "u", "m", "H", "alpha", "alpha_u", "rho")
 
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
@@ -87,13 +92,14 @@ class Evaluation:
     div_v: np.ndarray
     curl_v: np.ndarray
     vsig: np.ndarray
+    lap_u: np.ndarray
 
 
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
 
-    def __init__(self, scene, kernel: str, eta: float, alpha_u: float, open_=(), wall=None, inlet=None):
-        self.scene, self.kernel, self.eta, self.alpha_u = scene, kernel, eta, alpha_u
+    def __init__(self, scene, kernel: str, eta: float, open_=(), wall=None, inlet=None):
+        self.scene, self.kernel, self.eta = scene, kernel, eta
         self.open, self.wall, self.inlet = open_, wall, inlet
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
@@ -119,7 +125,7 @@ class GasSPH:
     def evaluate(self, P: Particles, x, v, u, buffer=None) -> Evaluation:
         """Density, support and rates of change of the fluid particles at the
         state ``(x, v, u)``; ``P`` supplies masses, the support guess, the
-        viscosity switch and the last density. Particles whose state is
+        viscosity and conduction switches and the last density. Particles whose state is
         imposed, not computed — the inflow ``buffer`` ``(x, v, rho, u, H)``
         and the walls' virtual particles — act as neighbours only; mirror
         ghosts are made of all of them."""
@@ -152,14 +158,13 @@ class GasSPH:
             k = int(np.flatnonzero(failed)[0])
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
         real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
-                                                    (u, bu), (P.alpha, np.zeros(bx.shape[0])))]
-        rho_all, H_all, omega_all, u_all, alpha_all = (np.concatenate([a, a[src]]) for a in real)
+                                                    (u, bu), (P.alpha, np.zeros(bx.shape[0])),
+                                                    (P.alpha_u, np.zeros(bx.shape[0])))]
+        rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
         c = np.sqrt(gamma * p / rho_all)
-        dvdt, dudt, div_v, curl_v, vsig = rates(X, self.box, self.half, V, m, u_all, rho_all, p, c, omega_all,
-                                                H_all, alpha_all, np.full(alpha_all.shape, self.alpha_u),
-                                                offsets, index, self.kind, dim, n)
-        return Evaluation(rho, H, dvdt, dudt, div_v, curl_v, vsig)
+        return Evaluation(rho, H, *rates(X, self.box, self.half, V, m, u_all, rho_all, p, c, omega_all, H_all,
+                                         alpha_all, alpha_u_all, offsets, index, self.kind, dim, n))
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
         """Shepard interpolation of particle ``values`` (k, n) on the grid
@@ -170,15 +175,17 @@ class GasSPH:
 
 
 def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
-          t_end=None, progress=True, **unknown):
+          t_end=None, progress=True, particles=None, **unknown):
     """Run ``scene`` with compressible SPH.
 
     ``dx`` is the initial particle spacing in the densest gas (equal-mass
     particles), ``eta`` the support radius in units of the local spacing
     (H = η (m/ρ)^(1/d); η = 4 gives H = 4Δx), ``alpha_max``/``alpha_min``
-    bound the Cullen–Dehnen viscosity, ``alpha_u`` is the conduction
-    coefficient. Raises :class:`~cases.errors.SolverFailed` with the partial
-    result if the state turns non-physical or the run is interrupted.
+    bound the Cullen–Dehnen viscosity, ``alpha_u`` is the ceiling of the
+    conduction coefficient's switch. ``particles``: a path to write the particle snapshot of
+    the last state to (SPEC §2; fluid, wall-virtual and buffer particles).
+    Raises :class:`~cases.errors.SolverFailed` with the partial result if
+    the state turns non-physical or the run is interrupted.
     """
     if unknown:
         raise InputError(f"method sph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
@@ -196,12 +203,13 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     P, box = _initial_particles(scene, dx, eta, alpha_min, t_end, open_)
     inflow = _inflow_buffer(scene, P, dx, eta)
     # virtual particles reach twice the initial support into the solids
-    sph = GasSPH(scene, kernel, eta, alpha_u, open_, walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None,
+    sph = GasSPH(scene, kernel, eta, open_, walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None,
                  inflow.wall if inflow else None)
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) every numba kernel
     E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
     cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
+    P.alpha_u = conduction_switch(P.alpha_u, E.lap_u, P.u, E.vsig, E.H, 1.0, alpha_u, 0.0)
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
@@ -249,6 +257,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
                                       f"internal energy {u_new[k]:.3g} at x = {P.x[k].round(6).tolist()} m.", t,
                                       lambda: run.fields(P, E))
+                P.alpha_u = conduction_switch(P.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
                 P.alpha = cullen_dehnen(P.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
                                         alpha_max, alpha_min)
                 P.v, P.u, P.H, P.rho, E = v_new, u_new, E_new.H, E_new.rho, E_new
@@ -265,8 +274,37 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                           lambda: run.fields(P, E)) from None
     finally:
         bar.close()
+        if particles is not None:
+            write_particles(_snapshot(sph, P, inflow, t), particles)
     run.totals = _totals(P)
     return run.dataset()
+
+
+def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
+    """The particles at time ``t`` (SPEC §2): fluid, the walls' virtual
+    particles and the inflow buffer, with their kind."""
+    gamma, dim = sph.scene.gamma, sph.dim
+    groups = [(P.x, P.v, P.rho, P.u, P.H, P.m, KINDS["fluid"])]
+    if sph.wall is not None:
+        groups.append((*virtual_state(sph.wall, P.x, P.v, P.rho, (gamma - 1.0) * P.rho * P.u, P.m, P.H, sph.kind,
+                                      sph.eta, gamma), KINDS["wall"]))
+    if inflow is not None:
+        bx, bv, brho, bu, bH = inflow.particles(t, sph.eta)
+        groups.append((bx, bv, brho, bu, bH, np.full(bx.shape[0], P.m[0]), KINDS["buffer"]))
+    x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
+    kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
+    variables = {"x": (x[:, 0], "m", "position x"), "u": (v[:, 0], "m s-1", "velocity x"),
+                 "rho": (rho, "kg m-3", "density"), "p": ((gamma - 1.0) * rho * u, "Pa", "pressure"),
+                 "m": (m, "kg m-(3-d)", "mass (per unit length/area of the missing dimensions)"),
+                 "h": (0.5 * H, "m", "smoothing length h = H/2 (H: kernel support radius)")}
+    if dim == 2:
+        variables.update(y=(x[:, 1], "m", "position y"), v=(v[:, 1], "m s-1", "velocity y"))
+    ds = xr.Dataset({name: ("particle", a, {"units": units, "long_name": long})
+                     for name, (a, units, long) in variables.items()})
+    ds["kind"] = ("particle", kind, {"long_name": "particle kind", "flag_values": list(KINDS.values()),
+                                     "flag_meanings": " ".join(KINDS)})
+    ds.attrs.update(case=sph.scene.name, method="sph", time=t, Conventions="CF-1.10")
+    return ds
 
 
 def _totals(P: Particles) -> tuple[float, float]:
@@ -293,7 +331,7 @@ def _initial_particles(scene, dx, eta, alpha_min, t_end, open_) -> tuple[Particl
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
-                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), rho=rho), box
+                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n), rho=rho), box
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
@@ -303,9 +341,10 @@ def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: f
     _, bv, brho, bu, bH = inflow.particles(t + dt, eta)
     k = x.shape[0]
     if k == 0:
-        return Particles(x, np.zeros((0, x.shape[1])), *(np.zeros(0) for _ in range(5)))
+        return Particles(x, np.zeros((0, x.shape[1])), *(np.zeros(0) for _ in range(6)))
     return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
-                     H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), rho=np.full(k, brho[0]))
+                     H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), alpha_u=np.zeros(k),
+                     rho=np.full(k, brho[0]))
 
 
 def _inflow_buffer(scene, P: Particles, dx: float, eta: float):
@@ -375,7 +414,7 @@ class _Run(RunRecord):
         s = self.settings
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
         scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
-                  f"(alpha_max {s['alpha_max']:g}), artificial conduction (alpha_u {s['alpha_u']:g}), "
+                  f"(alpha_max {s['alpha_max']:g}), artificial conduction with its switch (alpha_u_max {s['alpha_u']:g}), "
                   "predictor-corrector leapfrog, mirror-particle plane walls"
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H"}
