@@ -8,7 +8,8 @@ velocity; their density and support are imposed, not summed. A buffer
 particle that crosses the inlet becomes a fluid particle; a new column is
 spawned one spacing upstream of the last whenever the layer thins, so the
 mass flux ρ v through the inlet is the imposed one (all particles have the
-same mass m; columns are ``m / (ρ Δy)`` apart in 2D, ``m/ρ`` in 1D).
+same mass m; columns are ``m / (ρ Δy)`` apart in 2D, ``m/ρ`` in 1D, and the
+rows ``Δy ≈ sqrt(m/ρ(0))`` apart, so the layer starts isotropic).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import numpy as np
 class InflowBuffer:
     """The buffer layer of one inflow side (``x_lo`` for now)."""
 
-    def __init__(self, scene, side: str, mass: float, dx: float, depth: float):
+    def __init__(self, scene, side: str, mass: float, depth: float):
         if side != "x_lo":
             raise ValueError(f"inflow buffers are implemented for side x_lo only, got {side}.")
         self.scene, self.mass, self.depth = scene, mass, depth
@@ -27,8 +28,10 @@ class InflowBuffer:
         self.wall = scene.domain[0][0]
         self.dim = scene.dim
         if self.dim == 2:
+            # rows as far apart as the columns at the imposed density of t = 0: an isotropic layer, so
+            # the particles entering the domain do not have to rearrange (which would heat the gas)
             (y0, y1) = scene.domain[1]
-            ny = max(1, int(round((y1 - y0) / dx)))
+            ny = max(1, int(round((y1 - y0) / np.sqrt(mass / self.state(0.0)[0]))))
             self.column_y = y0 + (np.arange(ny) + 0.5) * (y1 - y0) / ny
             self.dy = (y1 - y0) / ny
         else:

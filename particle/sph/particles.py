@@ -13,39 +13,51 @@ from cases.scene import Inflow
 from particle.sph.walls import off_surface
 
 
-def open_sides(scene, dx: float) -> tuple[str, ...]:
-    """The ``outflow`` sides the initial flow does not enter through. Beyond
-    them stand zero-gradient ghosts (:func:`mirror_ghosts`) and particles
-    that cross them are removed; through the other outflow sides gas flows
-    in (Noh's converging flow), so the particle set is extended beyond them
-    (:func:`extended_domain`)."""
-    out = []
+def _side_state(scene, side: str, dx: float):
+    """Initial ``(c, u_n)`` at points along ``side``: sound speed and the
+    velocity along the side's outward normal."""
+    d = scene.sides.index(side)
+    axis, upper = d // 2, d % 2 == 1
+    along = np.linspace(*scene.domain[1 - axis], 65) if scene.dim == 2 else np.zeros(1)
+    edge = np.full(along.shape, scene.domain[axis][1 if upper else 0])
+    x, y = (edge, along) if axis == 0 else (along, edge)
+    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), x.shape)
+                    for a in scene.initial(x, y if scene.dim == 2 else None, dx))
+    return np.sqrt(scene.gamma * p / rho), (u if axis == 0 else v) * (1.0 if upper else -1.0)
+
+
+def outflow_reach(scene, dx: float, t_end: float, margin: float) -> dict[str, float]:
+    """How far the particle set extends beyond each ``outflow`` side.
+
+    Where the initial flow runs along the side or is at rest there (a free
+    stream past the top of the wedge tunnel, the quiet ends of a shock
+    tube), nothing: zero-gradient ghosts stand beyond it
+    (:func:`mirror_ghosts`). Elsewhere the free end of the particle set
+    must stay out of reach of the domain: the set extends by the distance
+    a signal from it covers upstream in the run, ``1.5 max(c − u_n, 0) t``
+    (``u_n`` the outward normal velocity: nothing comes back through
+    supersonic outflow; gas flowing in, as in Noh's problem, brings its
+    free end closer at ``c + |u_n|``), plus ``margin``, capped at twice the
+    domain's length along that axis. Particles beyond the extended set are
+    removed (:func:`inside`)."""
+    reach = {}
     for d, side in enumerate(scene.sides):
         if scene.boundaries[side] != "outflow":
             continue
-        axis, upper = d // 2, d % 2 == 1
-        along = np.linspace(*scene.domain[1 - axis], 65) if scene.dim == 2 else np.zeros(1)
-        edge = np.full(along.shape, scene.domain[axis][1 if upper else 0])
-        x, y = (edge, along) if axis == 0 else (along, edge)
-        rho, u, v, p = (np.broadcast_to(np.asarray(a, float), x.shape)
-                        for a in scene.initial(x, y if scene.dim == 2 else None, dx))
-        normal_speed = (u if axis == 0 else v) * (1.0 if upper else -1.0)
-        if np.all(normal_speed >= -1e-12 * np.sqrt(scene.gamma * p / rho)):
-            out.append(side)
-    return tuple(out)
+        c, u_n = _side_state(scene, side, dx)
+        if np.all(np.abs(u_n) <= 1e-12 * c):
+            reach[side] = 0.0
+        else:
+            length = np.subtract(*scene.domain[d // 2][::-1])
+            reach[side] = min(1.5 * float(np.max(np.maximum(c - u_n, 0.0))) * t_end + margin, 2.0 * length)
+    return reach
 
 
-def extended_domain(scene, reach: float, open_: tuple[str, ...] = ()) -> list[tuple[float, float]]:
-    """The region filled with fluid particles: the scene's domain, extended
-    by ``reach`` beyond every ``outflow`` side not in ``open_`` so that the
-    particles inside the domain never feel the free end of the particle set."""
-    box = []
-    for d, (lo, hi) in enumerate(scene.domain):
-        lo_side, hi_side = scene.sides[2 * d], scene.sides[2 * d + 1]
-        grow = [reach if scene.boundaries[side] == "outflow" and side not in open_ else 0.0
-                for side in (lo_side, hi_side)]
-        box.append((lo - grow[0], hi + grow[1]))
-    return box
+def extended_domain(scene, reach: dict[str, float]) -> list[tuple[float, float]]:
+    """The region filled with fluid particles: the scene's domain extended
+    beyond each side by ``reach[side]`` (0 for sides not in it)."""
+    return [(lo - reach.get(scene.sides[2 * d], 0.0), hi + reach.get(scene.sides[2 * d + 1], 0.0))
+            for d, (lo, hi) in enumerate(scene.domain)]
 
 
 def place_1d(scene, dx: float, box) -> tuple[np.ndarray, float]:
@@ -83,10 +95,10 @@ def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
 
 def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
     """Mirror particles across every reflecting side and every side of
-    ``open_``: positions, velocities (normal component reversed at a
-    reflecting wall, kept at an open side: a zero-gradient, transmissive
-    boundary like the finite-volume one), and the index of each ghost's
-    source particle. Sides are mirrored in turn, so a corner between two
+    ``open_`` (outflow sides the flow runs along): positions, velocities
+    (normal component reversed at a reflecting wall, kept at an open side:
+    zero gradient, as in the finite-volume outflow), and the index of each
+    ghost's source particle. Sides are mirrored in turn, so a corner between two
     such sides gets the double mirror image."""
     src = np.arange(x.shape[0])
     gx, gv, gsrc = [x], [v], [src]
@@ -109,14 +121,35 @@ def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
     return np.concatenate(gx)[n:], np.concatenate(gv)[n:], np.concatenate(gsrc)[n:]
 
 
-def inside_open_sides(scene, x, open_: tuple[str, ...]) -> np.ndarray:
-    """True for the particles that have not crossed any side of ``open_``."""
-    keep = np.ones(x.shape[0], dtype=bool)
-    for side in open_:
-        d = scene.sides.index(side)
+def reflect_at_plane_walls(scene, x, *velocities):
+    """The safeguard of the mirror walls: a particle that crossed a
+    reflecting side is put back at its mirror image and the normal
+    component of each of its ``velocities`` reversed if it points out.
+    Returns ``(x, *velocities, count)`` (new arrays where any moved)."""
+    crossed = np.zeros(x.shape[0], dtype=bool)
+    out = [x, *velocities]
+    for d, side in enumerate(scene.sides):
+        if scene.boundaries[side] != "reflect":
+            continue
         axis, upper = d // 2, d % 2 == 1
         wall = scene.domain[axis][1 if upper else 0]
-        keep &= (x[:, axis] <= wall) if upper else (x[:, axis] >= wall)
+        beyond = (out[0][:, axis] > wall) if upper else (out[0][:, axis] < wall)
+        if not beyond.any():
+            continue
+        out = [a.copy() for a in out]
+        out[0][beyond, axis] = 2.0 * wall - out[0][beyond, axis]
+        for v in out[1:]:
+            outward = beyond & ((v[:, axis] > 0.0) if upper else (v[:, axis] < 0.0))
+            v[outward, axis] = -v[outward, axis]
+        crossed |= beyond
+    return (*out, int(crossed.sum()))
+
+
+def inside(box, x) -> np.ndarray:
+    """True for the particles within ``box`` ((lo, hi) per axis)."""
+    keep = np.ones(x.shape[0], dtype=bool)
+    for axis, (lo, hi) in enumerate(box):
+        keep &= (x[:, axis] >= lo) & (x[:, axis] <= hi)
     return keep
 
 

@@ -36,11 +36,12 @@ from particle.sph.inflow import InflowBuffer
 from particle.sph.particles import (
     check_supported,
     extended_domain,
-    inside_open_sides,
+    inside,
     mirror_ghosts,
-    open_sides,
+    outflow_reach,
     place_1d,
     place_2d,
+    reflect_at_plane_walls,
 )
 from particle.sph.sampling import shepard_at_points
 from particle.sph.switches import conduction_switch, cullen_dehnen
@@ -98,9 +99,9 @@ class Evaluation:
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
 
-    def __init__(self, scene, kernel: str, eta: float, open_=(), wall=None, inlet=None):
+    def __init__(self, scene, kernel: str, eta: float, region, open_=(), wall=None):
         self.scene, self.kernel, self.eta = scene, kernel, eta
-        self.open, self.wall, self.inlet = open_, wall, inlet
+        self.region, self.open, self.wall = region, open_, wall
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -109,12 +110,10 @@ class GasSPH:
         self.box, self.half = periods(self.lo, self.hi, self.periodic, self.dim)
 
     def retained(self, x) -> np.ndarray:
-        """True for the particles still in the run: not beyond an open side,
-        nor pushed back upstream of the inlet."""
-        keep = inside_open_sides(self.scene, x, self.open)
-        if self.inlet is not None:
-            keep &= x[:, 0] >= self.inlet
-        return keep
+        """True for the particles still in the run: within the particle box
+        (not out through an outflow side, nor pushed back upstream of the
+        inlet)."""
+        return inside(self.region, x)
 
     def wrap(self, x):
         """Positions with periodic axes wrapped back into the domain."""
@@ -199,12 +198,12 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
-    open_ = open_sides(scene, dx)
-    P, box = _initial_particles(scene, dx, eta, alpha_min, t_end, open_)
-    inflow = _inflow_buffer(scene, P, dx, eta)
+    reach = outflow_reach(scene, dx, t_end, 4.0 * SEARCH_SLACK * eta * dx)
+    P, box = _initial_particles(scene, dx, eta, alpha_min, extended_domain(scene, reach))
+    inflow = _inflow_buffer(scene, P, eta)
     # virtual particles reach twice the initial support into the solids
-    sph = GasSPH(scene, kernel, eta, open_, walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None,
-                 inflow.wall if inflow else None)
+    sph = GasSPH(scene, kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
+                 walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None)
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) every numba kernel
     E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
@@ -230,8 +229,10 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 P.H = E.H * np.exp(dt * E.div_v / dim)
                 v_pred, u_pred = P.v + dt * E.dvdt, P.u + dt * E.dudt
                 P.x = sph.wrap(P.x + dt * v_half)
+                # the safeguard: a particle the walls did not stop is mirrored back into the fluid
+                P.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, P.x, v_half, v_pred)
+                run.reflections += reflected
                 if sph.wall is not None:
-                    # the safeguard: a particle the walls did not stop is mirrored back out of the solid
                     P.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, P.x, v_half, v_pred)
                     run.reflections += reflected
                 div_old = E.div_v
@@ -312,26 +313,17 @@ def _totals(P: Particles) -> tuple[float, float]:
     return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
-def _initial_particles(scene, dx, eta, alpha_min, t_end, open_) -> tuple[Particles, list]:
-    """Equal-mass particles over the domain (extended beyond the outflow
-    sides not in ``open_`` by the distance the fastest initial signal covers
-    in the run), and the box they fill."""
+def _initial_particles(scene, dx, eta, alpha_min, box) -> tuple[Particles, list]:
+    """Equal-mass particles over ``box`` (the domain extended beyond outflow
+    sides) with the scene's initial state, and the box."""
     gamma, dim = scene.gamma, scene.dim
-    place = place_1d if dim == 1 else place_2d
-    reach = 0.0
-    if any(scene.boundaries[s] == "outflow" and s not in open_ for s in scene.sides):
-        x, _ = place(scene, dx, scene.domain)
-        rho0, u0, v0, p0 = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape)
-                            for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
-        c_max = float(np.max(np.sqrt(gamma * p0 / rho0) + np.hypot(u0, v0)))
-        reach = min(1.2 * c_max * t_end + 8 * eta * dx, 2.0 * (scene.domain[0][1] - scene.domain[0][0]))
-    box = extended_domain(scene, reach, open_)
-    x, mass = place(scene, dx, box)
+    x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
-                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n), rho=rho), box
+                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
+                     rho=rho), box
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
@@ -347,14 +339,14 @@ def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: f
                      rho=np.full(k, brho[0]))
 
 
-def _inflow_buffer(scene, P: Particles, dx: float, eta: float):
+def _inflow_buffer(scene, P: Particles, eta: float):
     """The inflow buffer of the scene's inflow side, or None."""
     sides = [s for s in scene.sides if isinstance(scene.boundaries[s], Inflow)]
     if not sides:
         return None
     rho_in = scene.boundaries[sides[0]].state(0.0)[0]
     depth = SEARCH_SLACK * max(P.H.max(), eta * (P.m[0] / rho_in) ** (1.0 / scene.dim)) * 1.5
-    return InflowBuffer(scene, sides[0], P.m[0], dx, depth)
+    return InflowBuffer(scene, sides[0], P.m[0], depth)
 
 
 def _sample_points(scene) -> np.ndarray:
@@ -417,9 +409,8 @@ class _Run(RunRecord):
                   f"(alpha_max {s['alpha_max']:g}), artificial conduction with its switch (alpha_u_max {s['alpha_u']:g}), "
                   "predictor-corrector leapfrog, mirror-particle plane walls"
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
-        attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H"}
-        if self.solid is not None:
-            attrs["wall_reflections"] = self.reflections
+        attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
+                 "wall_reflections": self.reflections}
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0, self.totals
