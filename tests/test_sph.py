@@ -12,7 +12,7 @@ from compare.metrics import field_error
 from particle import kernels
 from particle.neighbours import neighbour_lists, periods
 from particle.sph.density import density_and_support
-from particle.sph.particles import reflect_at_plane_walls
+from particle.sph.particles import place_2d, reflect_at_plane_walls
 from particle.sph.switches import conduction_switch
 
 SOD = cases.get("sod")
@@ -181,3 +181,22 @@ def test_conduction_switch_rises_at_a_kink_and_decays_in_smooth_flow():
     # once the kink has gone, it decays on tau = h / (0.1 v_sig)
     later = conduction_switch(alpha, np.zeros(3), u, vsig, H, 0.1, 1.0, 0.0)
     np.testing.assert_allclose(later, alpha * np.exp(-0.1 / (0.02 / 0.1)))
+
+
+def test_2d_placement_of_a_planar_shock_gives_each_region_its_mass():
+    # cylinder_shock starts with a planar Mach 1.16 shock: rows dx apart, mass inverted along them
+    scene = cases.get("cylinder_shock")
+    dx = 1e-3
+    (x0, x1), (y0, y1) = scene.domain
+    x, m = place_2d(scene, dx, scene.domain)
+    rho_post = scene.initial(np.array([0.0]), np.array([0.0]), dx)[0][0]
+    rho_pre = scene.initial(np.array([0.1]), np.array([0.0]), dx)[0][0]
+    behind = x[:, 0] < 0.015
+    assert m * behind.sum() == pytest.approx(rho_post * 0.015 * (y1 - y0), rel=0.01)
+    # the cylinder's area holds no particle, and the gas around it has its share of the mass
+    area = np.pi * (scene.parameters["diameter"] / 2) ** 2
+    assert m * (~behind).sum() == pytest.approx(rho_pre * ((x1 - 0.015) * (y1 - y0) - area), rel=0.01)
+    assert np.all(scene.obstacles[0].signed_distance(x[:, 0], x[:, 1]) >= 0.5 * dx - 1e-12)
+    # too strong a density ratio for rows of one spacing is refused in one sentence
+    with pytest.raises(cases.errors.InputError, match="ratio"):
+        place_2d(cases.get("cylinder_shock", Ms=3.0), dx, scene.domain)

@@ -74,23 +74,60 @@ def place_1d(scene, dx: float, box) -> tuple[np.ndarray, float]:
     return np.interp(targets, mass, fine)[:, None], mass[-1] / n
 
 
+#: the largest initial density ratio the 2D row placement takes (its particles are
+#: ρ_max/ρ times wider apart along x than along y in the lighter gas)
+MAX_ROW_DENSITY_RATIO = 2.0
+
+
 def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
-    """A square lattice of spacing ``dx`` over ``box`` outside the obstacles
-    (``φ > 0``; the lattice points inside them are the walls' virtual
-    particles), points closer than ``dx/2`` to a surface moved off it to
-    ``dx/2`` (:func:`particle.sph.walls.off_surface`); the initial density
-    must be uniform (checked)."""
+    """Equal-mass particles over ``box`` outside the obstacles (``φ > 0``),
+    points closer than ``dx/2`` to a surface moved off it to ``dx/2``
+    (:func:`particle.sph.walls.off_surface`).
+
+    A uniform initial density gets the square lattice of spacing ``dx``
+    (the lattice points inside the obstacles are the walls' virtual
+    particles). A non-uniform one (up to a ratio
+    :data:`MAX_ROW_DENSITY_RATIO`) gets rows ``dx`` apart along which the
+    mass is inverted as in :func:`place_1d`: the rows laid end to end, the
+    particle k sits where the cumulative mass reaches (k + ½) m, so every
+    particle carries the same mass and each row's share of the profile."""
     (x0, x1), (y0, y1) = box
     nx, ny = int(round((x1 - x0) / dx)), int(round((y1 - y0) / dx))
     X, Y = np.meshgrid(x0 + (np.arange(nx) + 0.5) * (x1 - x0) / nx, y0 + (np.arange(ny) + 0.5) * (y1 - y0) / ny)
     x = np.stack([X.ravel(), Y.ravel()], axis=1)
     rho = np.broadcast_to(np.asarray(scene.initial(x[:, 0], x[:, 1], dx)[0], float), x[:, 0].shape)
+    mass = rho.max() * (x1 - x0) * (y1 - y0) / (nx * ny)
     if np.ptp(rho) > 1e-12 * rho.max():
-        raise InputError(f"scene {scene.name}: sph in 2D needs a uniform initial density for now "
-                         f"(found {rho.min():g} to {rho.max():g} kg m-3).")
+        x, mass = _rows(scene, dx, box, ny)
     for shape in scene.obstacles:
         x = x[shape.signed_distance(x[:, 0], x[:, 1]) > 0.0]
-    return off_surface(scene.obstacles, x, 0.5 * dx), rho.max() * (x1 - x0) * (y1 - y0) / (nx * ny)
+    return off_surface(scene.obstacles, x, 0.5 * dx), mass
+
+
+def _rows(scene, dx: float, box, ny: int) -> tuple[np.ndarray, float]:
+    """Equal-mass particles on ``ny`` rows over ``box`` by mass inversion
+    along the rows laid end to end (see :func:`place_2d`)."""
+    (x0, x1), (y0, y1) = box
+    dy = (y1 - y0) / ny
+    fine = np.linspace(x0, x1, int(np.ceil((x1 - x0) / dx)) * 64 + 1)
+    rows = y0 + (np.arange(ny) + 0.5) * dy
+    F, R = np.meshgrid(fine, rows)
+    rho = np.broadcast_to(np.asarray(scene.initial(F.ravel(), R.ravel(), dx)[0], float), F.size).reshape(F.shape)
+    if rho.max() > MAX_ROW_DENSITY_RATIO * rho.min():
+        raise InputError(f"scene {scene.name}: sph in 2D places a non-uniform initial density only up to a ratio "
+                         f"{MAX_ROW_DENSITY_RATIO:g} (found {rho.min():g} to {rho.max():g} kg m-3).")
+    within = np.concatenate([np.zeros((ny, 1)), np.cumsum(0.5 * (rho[:, 1:] + rho[:, :-1]) * np.diff(fine) * dy,
+                                                          axis=1)], axis=1)
+    before = np.concatenate([[0.0], np.cumsum(within[:, -1])])
+    n = int(round(before[-1] / (rho.max() * dx * dy)))
+    targets = (np.arange(n) + 0.5) * before[-1] / n
+    row = np.searchsorted(before, targets, side="right") - 1
+    x = np.empty((n, 2))
+    for j in range(ny):
+        mine = row == j
+        x[mine, 0] = np.interp(targets[mine] - before[j], within[j], fine)
+        x[mine, 1] = rows[j]
+    return x, before[-1] / n
 
 
 def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
