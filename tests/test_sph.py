@@ -63,7 +63,7 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
     search = np.full(n, 1.3 * eta * dx)
     box, half = periods([0.0], [n * dx], [True], 1)
     offsets, index = neighbour_lists(x, search, [0.0], [n * dx], [True])
-    rho, H, omega, converged = density_and_support(x, box, half, np.full(n, m), H, search, offsets, index,
+    rho, H, _, converged = density_and_support(x, box, half, np.full(n, m), H, search, offsets, index,
                                                    kernels.KERNELS["wendland_c6"], 1, eta, n)
     assert converged.all()
     np.testing.assert_allclose(H, eta * m / rho, rtol=1e-7)
@@ -187,7 +187,7 @@ def test_2d_placement_of_a_planar_shock_gives_each_region_its_mass():
     # cylinder_shock starts with a planar Mach 1.16 shock: rows dx apart, mass inverted along them
     scene = cases.get("cylinder_shock")
     dx = 1e-3
-    (x0, x1), (y0, y1) = scene.domain
+    (_, x1), (y0, y1) = scene.domain
     x, m = place_2d(scene, dx, scene.domain)
     rho_post = scene.initial(np.array([0.0]), np.array([0.0]), dx)[0][0]
     rho_pre = scene.initial(np.array([0.1]), np.array([0.0]), dx)[0][0]
