@@ -172,27 +172,27 @@ def separation(x, i, j, box, half):
 
 
 @numba.njit(cache=True, inline="always")
+def _r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half):
+    """|x_i − x_kk|² (minimum image) of sorted particle kk from the point
+    (xi0, xi1, xi2), summed in one fixed order: every pass that tests a pair
+    tests it with the same arithmetic, so a pair is never lost or doubled."""
+    d0 = _image(xi0 - xs0[kk], box[0], half[0])
+    if dim == 1:
+        return d0 * d0
+    d1 = _image(xi1 - xs1[kk], box[1], half[1])
+    if dim == 2:
+        return d0 * d0 + d1 * d1
+    d2 = _image(xi2 - xs2[kk], box[2], half[2])
+    return d0 * d0 + d1 * d1 + d2 * d2
+
+
+@numba.njit(cache=True, inline="always")
 def _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half):
     """Number of kk in [a, b) with |x_i − x_kk| < max(H_i, H_kk) (self included)."""
     cnt = 0
-    if dim == 1:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            h = max(Hi, Hs[kk])
-            cnt += d0 * d0 < h * h
-    elif dim == 2:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            d1 = _image(xi1 - xs1[kk], box[1], half[1])
-            h = max(Hi, Hs[kk])
-            cnt += d0 * d0 + d1 * d1 < h * h
-    else:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            d1 = _image(xi1 - xs1[kk], box[1], half[1])
-            d2 = _image(xi2 - xs2[kk], box[2], half[2])
-            h = max(Hi, Hs[kk])
-            cnt += d0 * d0 + d1 * d1 + d2 * d2 < h * h
+    for kk in range(a, b):
+        h = max(Hi, Hs[kk])
+        cnt += _r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half) < h * h
     return cnt
 
 
@@ -201,27 +201,10 @@ def _collect_run(a, b, k, p, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, hal
     """Append the neighbours kk ≠ k in [a, b) to the scratch list from slot p
     on (branch-free compaction: every candidate is written, the slot only
     advances on a hit); returns the next free slot."""
-    if dim == 1:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            h = max(Hi, Hs[kk])
-            bk[p] = kk
-            p += (d0 * d0 < h * h) & (kk != k)
-    elif dim == 2:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            d1 = _image(xi1 - xs1[kk], box[1], half[1])
-            h = max(Hi, Hs[kk])
-            bk[p] = kk
-            p += (d0 * d0 + d1 * d1 < h * h) & (kk != k)
-    else:
-        for kk in range(a, b):
-            d0 = _image(xi0 - xs0[kk], box[0], half[0])
-            d1 = _image(xi1 - xs1[kk], box[1], half[1])
-            d2 = _image(xi2 - xs2[kk], box[2], half[2])
-            h = max(Hi, Hs[kk])
-            bk[p] = kk
-            p += (d0 * d0 + d1 * d1 + d2 * d2 < h * h) & (kk != k)
+    for kk in range(a, b):
+        h = max(Hi, Hs[kk])
+        bk[p] = kk
+        p += (_r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half) < h * h) & (kk != k)
     return p
 
 
@@ -331,8 +314,8 @@ def _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, stencil, index, box,
     """Pairs (j, i large) with H_j ≤ r < H_i: found only in the large
     particle's row, added to j's row after its stencil neighbours
     (``count_only``: counted per j into ``extra``; otherwise written, with
-    ``extra`` as the fill cursor). r² is computed exactly as j's own scan
-    computes it, so no pair is lost or doubled. Serial in a fixed order:
+    ``extra`` as the fill cursor). r² comes from :func:`_r2` as in j's own
+    scan, so no pair is lost or doubled. Serial in a fixed order:
     the lists do not depend on the thread count."""
     dim = 1 if xs1.size == 0 else (2 if xs2.size == 0 else 3)
     for i in large:
@@ -340,15 +323,10 @@ def _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, stencil, index, box,
         for q in range(offsets[i], offsets[i] + stencil[i]):
             j = index[q]
             kj = rank[j]
-            d0 = _image(xs0[kj] - xs0[ki], box[0], half[0])
-            r2 = d0 * d0
-            if dim > 1:
-                d1 = _image(xs1[kj] - xs1[ki], box[1], half[1])
-                r2 = d0 * d0 + d1 * d1
-                if dim > 2:
-                    d2 = _image(xs2[kj] - xs2[ki], box[2], half[2])
-                    r2 = d0 * d0 + d1 * d1 + d2 * d2
-            if r2 < Hs[kj] * Hs[kj]:
+            # j's own scan measures the pair from j
+            xj1 = xs1[kj] if dim > 1 else 0.0
+            xj2 = xs2[kj] if dim > 2 else 0.0
+            if _r2(xs0[kj], xj1, xj2, xs0, xs1, xs2, ki, dim, box, half) < Hs[kj] * Hs[kj]:
                 continue
             if not count_only:
                 index[offsets[j] + stencil[j] + extra[j]] = i

@@ -127,13 +127,15 @@ def test_linear_field_exact_in_lattice_interior_1d_on_particles_and_midpoints():
         np.testing.assert_allclose(out[interior], 0.3 - 4.0 * gx[interior], rtol=0, atol=1e-10)
 
 
+def random_cloud(seed, n, H_range):
+    """``n`` particles in the unit square: positions, two fields, volumes, supports."""
+    rng = np.random.default_rng(seed)
+    return (rng.uniform(0, 1, (n, 2)), rng.normal(size=(2, n)), rng.uniform(0.5, 1.5, n) / n,
+            rng.uniform(*H_range, n))
+
+
 def test_matches_brute_force_reference():
-    rng = np.random.default_rng(3)
-    n = 150
-    pts = rng.uniform(0, 1, (n, 2))
-    vals = rng.normal(size=(2, n))
-    vol = rng.uniform(0.5, 1.5, n) / n
-    H = rng.uniform(0.05, 0.2, n)
+    pts, vals, vol, H = random_cloud(3, 150, (0.05, 0.2))
     gx, gy = centres(-0.1, 1.1, 17), centres(0, 1, 13)
     out = shepard(pts, vals, vol, H, gx, gy, kernel=wendland_c2_2d, min_support=0.05)
     ref = dense_shepard(pts, vals, vol, H, gx, gy, wendland_c2_2d, min_support=0.05)
@@ -199,15 +201,11 @@ def test_batch_rows_equal_single_calls_and_shapes():
 
 
 def test_result_independent_of_particle_order():
-    rng = np.random.default_rng(5)
-    n = 400
-    pts = rng.uniform(0, 1, (n, 2))
-    vals = rng.normal(size=(2, n))
-    vol = rng.uniform(0.5, 1.5, n) / n
-    H = rng.uniform(0.08, 0.15, n)
+    pts, vals, vol, H = random_cloud(5, 400, (0.08, 0.15))
+    n = len(H)
     gx, gy = centres(0, 1, 21), centres(0, 1, 19)
     a = shepard(pts, vals, vol, H, gx, gy, kernel=wendland_c2_2d, periodic=(True, False), box=((0, 1), (0, 1)))
-    perm = rng.permutation(n)
+    perm = np.random.default_rng(6).permutation(n)
     b = shepard(pts[perm], vals[:, perm], vol[perm], H[perm], gx, gy, kernel=wendland_c2_2d,
                 periodic=(True, False), box=((0, 1), (0, 1)))
     np.testing.assert_array_equal(a, b)  # bit for bit

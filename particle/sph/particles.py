@@ -39,7 +39,7 @@ def outflow_reach(scene, dx: float, t_end: float, margin: float) -> dict[str, fl
     supersonic outflow; gas flowing in, as in Noh's problem, brings its
     free end closer at ``c + |u_n|``), plus ``margin``, capped at twice the
     domain's length along that axis. Particles beyond the extended set are
-    removed (:func:`inside`)."""
+    removed (:func:`particle.sph.walls.in_box`)."""
     reach = {}
     for d, side in enumerate(scene.sides):
         if scene.boundaries[side] != "outflow":
@@ -180,14 +180,6 @@ def reflect_at_plane_walls(scene, x, *velocities):
             v[outward, axis] = -v[outward, axis]
         crossed |= beyond
     return (*out, int(crossed.sum()))
-
-
-def inside(box, x) -> np.ndarray:
-    """True for the particles within ``box`` ((lo, hi) per axis)."""
-    keep = np.ones(x.shape[0], dtype=bool)
-    for axis, (lo, hi) in enumerate(box):
-        keep &= (x[:, axis] >= lo) & (x[:, axis] <= hi)
-    return keep
 
 
 def check_supported(scene):

@@ -36,7 +36,6 @@ from particle.sph.inflow import InflowBuffer
 from particle.sph.particles import (
     check_supported,
     extended_domain,
-    inside,
     mirror_ghosts,
     outflow_reach,
     place_1d,
@@ -45,7 +44,7 @@ from particle.sph.particles import (
 )
 from particle.sph.sampling import shepard_at_points
 from particle.sph.switches import conduction_switch, cullen_dehnen
-from particle.sph.walls import reflect_into_fluid, virtual_state, walls
+from particle.sph.walls import in_box, reflect_into_fluid, virtual_state, walls
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles")
 #: particle kinds in a snapshot
@@ -113,7 +112,7 @@ class GasSPH:
         """True for the particles still in the run: within the particle box
         (not out through an outflow side, nor pushed back upstream of the
         inlet)."""
-        return inside(self.region, x)
+        return in_box(x, self.region)
 
     def wrap(self, x):
         """Positions with periodic axes wrapped back into the domain."""
@@ -199,7 +198,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     reach = outflow_reach(scene, dx, t_end, 4.0 * SEARCH_SLACK * eta * dx)
-    P, box = _initial_particles(scene, dx, eta, alpha_min, extended_domain(scene, reach))
+    box = extended_domain(scene, reach)
+    P = _initial_particles(scene, dx, eta, alpha_min, box)
     inflow = _inflow_buffer(scene, P, eta)
     # virtual particles reach twice the initial support into the solids
     sph = GasSPH(scene, kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
@@ -313,9 +313,9 @@ def _totals(P: Particles) -> tuple[float, float]:
     return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
-def _initial_particles(scene, dx, eta, alpha_min, box) -> tuple[Particles, list]:
+def _initial_particles(scene, dx, eta, alpha_min, box) -> Particles:
     """Equal-mass particles over ``box`` (the domain extended beyond outflow
-    sides) with the scene's initial state, and the box."""
+    sides) with the scene's initial state."""
     gamma, dim = scene.gamma, scene.dim
     x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
@@ -323,7 +323,7 @@ def _initial_particles(scene, dx, eta, alpha_min, box) -> tuple[Particles, list]
     n = x.shape[0]
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
                      H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
-                     rho=rho), box
+                     rho=rho)
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:

@@ -91,6 +91,7 @@ from particle.neighbours import _counting_sort, cell_grid
 __all__ = [
     "SKEW",
     "Wall",
+    "in_box",
     "lattice_coordinate",
     "nearest_wall",
     "off_surface",
@@ -202,7 +203,10 @@ def _union_distance(shapes, x, y) -> np.ndarray:
     return phi
 
 
-def _in_box(p, box, tol) -> np.ndarray:
+def in_box(p, box, tol=0.0) -> np.ndarray:
+    """True for the points ``p`` (n, dim) within ``box`` ((lo, hi) per axis),
+    widened by ``tol``."""
+    box = np.asarray(box, dtype=float)
     return np.all((p >= box[:, 0] - tol) & (p <= box[:, 1] + tol), axis=1)
 
 
@@ -216,7 +220,7 @@ def wall_particles(obstacles, dx, box) -> tuple[np.ndarray, np.ndarray]:
     pts, nrm = [], []
     for k, shape in enumerate(obstacles):
         p, n = shape.surface_points(0.5 * dx)
-        keep = _in_box(p, box, tol) & _in_box(p + 1e-3 * dx * n, box, tol)
+        keep = in_box(p, box, tol) & in_box(p + 1e-3 * dx * n, box, tol)
         others = obstacles[:k] + obstacles[k + 1:]
         keep &= _union_distance(others, p[:, 0], p[:, 1]) > 0.0
         pts.append(p[keep])
