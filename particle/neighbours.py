@@ -41,7 +41,7 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["cell_grid", "neighbour_lists", "neighbours", "periods", "separation", "separations", "sort_order"]
+__all__ = ["cell_grid", "neighbour_lists", "neighbours", "padded", "periods", "separation", "separations", "sort_order"]
 
 # Cells are made this much wider than max H / reach, so that a particle put
 # one cell off by round-off still finds every neighbour.
@@ -159,15 +159,29 @@ def _image(d, box, half):
 
 
 @numba.njit(cache=True, inline="always")
+def _nearest(d, box, half):
+    """Minimum image of a separation |d| < 1.5·box, with branches: in the
+    pair loops of the particle kernels they are always predicted (never
+    taken on a non-periodic axis, where ``half`` is +inf), which is cheaper
+    there than :func:`_image`'s arithmetic."""
+    if d > half:
+        return d - box
+    if d < -half:
+        return d + box
+    return d
+
+
+@numba.njit(cache=True, inline="always")
 def separation(x, i, j, box, half):
-    """``(d0, d1, d2, r)``: ``x_i − x_j`` per axis (0 beyond ``x``'s dim),
-    the minimum image on periodic axes (``half``, half the period, finite;
-    positions within one period of each other), and its length. The one
-    place the particle kernels get pair geometry from."""
-    dim = x.shape[1]
-    d0 = _image(x[i, 0] - x[j, 0], box[0], half[0])
-    d1 = _image(x[i, 1] - x[j, 1], box[1], half[1]) if dim > 1 else 0.0
-    d2 = _image(x[i, 2] - x[j, 2], box[2], half[2]) if dim > 2 else 0.0
+    """``(d0, d1, d2, r)``: ``x_i − x_j`` per axis, the minimum image on
+    periodic axes (positions within 1.5 periods of each other), and its
+    length. ``x`` is (n, 3), zero beyond the problem's dimension
+    (:func:`padded`), so the pair loops carry no branch on the dimension;
+    ``box``, ``half`` from :func:`periods`. The one place the particle
+    kernels get pair geometry from."""
+    d0 = _nearest(x[i, 0] - x[j, 0], box[0], half[0])
+    d1 = _nearest(x[i, 1] - x[j, 1], box[1], half[1])
+    d2 = _nearest(x[i, 2] - x[j, 2], box[2], half[2])
     return d0, d1, d2, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
 
 
@@ -199,12 +213,13 @@ def _count_run(a, b, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half):
 @numba.njit(cache=True, inline="always")
 def _collect_run(a, b, k, p, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, half, bk):
     """Append the neighbours kk ≠ k in [a, b) to the scratch list from slot p
-    on (branch-free compaction: every candidate is written, the slot only
-    advances on a hit); returns the next free slot."""
+    on; returns the next free slot. (A branch-free compaction, writing every
+    candidate and advancing the slot on a hit, measured 25 % slower.)"""
     for kk in range(a, b):
         h = max(Hi, Hs[kk])
-        bk[p] = kk
-        p += (_r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half) < h * h) & (kk != k)
+        if _r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half) < h * h and kk != k:
+            bk[p] = kk
+            p += 1
     return p
 
 
@@ -554,11 +569,23 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
 
 
 def periods(lo, hi, periodic, dim):
-    """``(box, half)`` for :func:`separation`: the box size per axis and half
-    the period on periodic axes (+inf elsewhere)."""
+    """``(box, half)`` for :func:`separation`, three entries each: the box
+    size per axis and half the period on periodic axes (+inf elsewhere and
+    beyond ``dim``)."""
     lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
-    box = hi - lo
-    return box, np.where(_as_periodic(periodic, dim), 0.5 * box, np.inf)
+    box, half = np.ones(3), np.full(3, np.inf)
+    box[:dim] = hi - lo
+    half[:dim] = np.where(_as_periodic(periodic, dim), 0.5 * box[:dim], np.inf)
+    return box, half
+
+
+def padded(a) -> np.ndarray:
+    """(n, 3) contiguous float copy of positions or vectors ``a`` (n, dim),
+    zero beyond ``dim``: the layout :func:`separation` and the pair kernels read."""
+    a = np.asarray(a, dtype=np.float64)
+    out = np.zeros((a.shape[0], 3))
+    out[:, : a.shape[1]] = a
+    return out
 
 
 def separations(x, offsets, index, lo, hi, periodic=False):

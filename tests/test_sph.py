@@ -10,7 +10,7 @@ import cases
 from compare.convergence import observed_order
 from compare.metrics import field_error
 from particle import kernels
-from particle.neighbours import neighbour_lists, periods
+from particle.neighbours import neighbour_lists, padded, periods
 from particle.sph.density import density_and_support
 from particle.sph.particles import place_2d, reflect_at_plane_walls
 from particle.sph.switches import conduction_switch
@@ -63,7 +63,7 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
     search = np.full(n, 1.3 * eta * dx)
     box, half = periods([0.0], [n * dx], [True], 1)
     offsets, index = neighbour_lists(x, search, [0.0], [n * dx], [True])
-    rho, H, _, converged = density_and_support(x, box, half, np.full(n, m), H, search, offsets, index,
+    rho, H, _, converged = density_and_support(padded(x), box, half, np.full(n, m), H, search, offsets, index,
                                                    kernels.KERNELS["wendland_c6"], 1, eta, n)
     assert converged.all()
     np.testing.assert_allclose(H, eta * m / rho, rtol=1e-7)

@@ -53,7 +53,7 @@ def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, et
     fluid; ghosts follow them and only serve as neighbours) at positions
     ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`).
 
-    ``H`` is the starting guess and ``H_max`` the largest support the
+    ``x`` is (N, 3) (:func:`particle.neighbours.padded`). ``H`` is the starting guess and ``H_max`` the largest support the
     neighbour lists were built for (the solution is kept below it).
     Distances are computed once per particle into a scratch list shared by
     a chunk of particles, then every iteration reads them.
@@ -90,11 +90,10 @@ def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, et
                 if not (lo < h_new < hi):
                     h_new = 0.5 * (lo + hi)
                 if abs(h_new - h) <= TOLERANCE * h:
-                    h = h_new
+                    # h (whose sums these are) solves f = 0 to the tolerance
                     ok = True
                     break
                 h = h_new
-            rho, drho = _sums(i, h, m, r, neighbour, kind, dim)
             H_out[i] = h
             rho_out[i] = rho
             omega[i] = 1.0 + h / (dim * rho) * drho

@@ -27,15 +27,31 @@ import math
 import numba
 import numpy as np
 
-from particle.kernels import kernel_dwdr
+from particle.kernels import SIGMA, shape_derivative
 from particle.neighbours import separation
 
 
 @numba.njit(parallel=True, cache=True)
 def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n):
     """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u)`` for the first ``n``
-    particles (the fluid; ghosts after them only serve as neighbours) at
-    positions ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`)."""
+    particles (the fluid; ghosts after them only serve as neighbours).
+
+    ``x`` and ``v`` are (N, 3) (:func:`particle.neighbours.padded`: zeros
+    beyond ``dim``), ``box``/``half`` as from :func:`particle.neighbours.periods`.
+    The per-particle factors (1/H, σ_d/H^(d+1), p/(Ωρ²), m/ρ) are computed
+    once, so the pair loop does two kernel-derivative polynomials, one
+    square root and one division per pair."""
+    N = x.shape[0]
+    inv_H = np.empty(N)
+    grad_scale = np.empty(N)
+    p_term = np.empty(N)
+    volume = np.empty(N)
+    sigma = SIGMA[kind, dim]
+    for j in numba.prange(N):
+        inv_H[j] = 1.0 / H[j]
+        grad_scale[j] = sigma * inv_H[j] ** (dim + 1)
+        p_term[j] = p[j] / (omega[j] * rho[j] * rho[j])
+        volume[j] = m[j] / rho[j]
     dvdt = np.zeros((n, dim))
     dudt = np.zeros(n)
     div_v = np.zeros(n)
@@ -43,8 +59,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     vsig_max = np.zeros(n)
     lap_u = np.zeros(n)
     for i in numba.prange(n):
-        pi_term = p[i] / (omega[i] * rho[i] * rho[i])
-        acc = np.zeros(dim)
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
         du = 0.0
         div = 0.0
         curl = 0.0
@@ -52,48 +69,51 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
         vsig_i = c[i]
         for k in range(offsets[i], offsets[i + 1]):
             j = index[k]
-            d0, d1, _, rij = separation(x, i, j, box, half)
-            if rij <= 0.0:
+            d0, d1, d2, rij = separation(x, i, j, box, half)
+            qi = rij * inv_H[i]
+            qj = rij * inv_H[j]
+            if (qi >= 1.0 and qj >= 1.0) or rij <= 0.0:
                 continue
-            Fi = kernel_dwdr(kind, rij, H[i], dim) if rij < H[i] else 0.0
-            Fj = kernel_dwdr(kind, rij, H[j], dim) if rij < H[j] else 0.0
-            if Fi == 0.0 and Fj == 0.0:
-                continue
-            pj_term = p[j] / (omega[j] * rho[j] * rho[j])
-            ex0 = d0 / rij
-            ex1 = d1 / rij
+            Fi = grad_scale[i] * shape_derivative(kind, qi) if qi < 1.0 else 0.0
+            Fj = grad_scale[j] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
+            inv_r = 1.0 / rij
+            ex0 = d0 * inv_r
+            ex1 = d1 * inv_r
+            ex2 = d2 * inv_r
             dv0 = v[i, 0] - v[j, 0]
-            dv1 = v[i, 1] - v[j, 1] if dim > 1 else 0.0
-            w = dv0 * ex0 + dv1 * ex1  # v_ij · x̂_ij
+            dv1 = v[i, 1] - v[j, 1]
+            dv2 = v[i, 2] - v[j, 2]
+            w = dv0 * ex0 + dv1 * ex1 + dv2 * ex2  # v_ij · x̂_ij
             Fbar = 0.5 * (Fi + Fj)
-            rho_bar = 0.5 * (rho[i] + rho[j])
+            inv_rho_bar = 2.0 / (rho[i] + rho[j])
             # pressure force (grad-h variational form)
-            f = m[j] * (pi_term * Fi + pj_term * Fj)
+            f = m[j] * (p_term[i] * Fi + p_term[j] * Fj)
             # artificial viscosity
             alpha_ij = 0.5 * (alpha[i] + alpha[j])
-            vsig = 0.5 * (c[i] + c[j] - 2.0 * alpha_ij * w) if w < 0.0 else 0.5 * (c[i] + c[j])
-            if vsig > vsig_i:
-                vsig_i = vsig
+            vsig = 0.5 * (c[i] + c[j])
             if w < 0.0:
-                visc = -alpha_ij * vsig * w / rho_bar
-                f += m[j] * visc * Fbar
-                du += 0.5 * m[j] * visc * w * Fbar
-            acc[0] -= f * ex0
-            if dim > 1:
-                acc[1] -= f * ex1
-            # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i)
-            du += pi_term * m[j] * w * Fi
+                vsig -= alpha_ij * w
+                visc = -alpha_ij * vsig * w * inv_rho_bar * m[j] * Fbar
+                f += visc
+                du += 0.5 * visc * w
+            vsig_i = max(vsig_i, vsig)
+            a0 -= f * ex0
+            a1 -= f * ex1
+            a2 -= f * ex2
+            # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i), and ∇·v with the particle's own kernel
+            mwF = m[j] * w * Fi
+            du += p_term[i] * mwF
+            div -= mwF
             # artificial conduction
-            vsig_u = math.sqrt(abs(p[i] - p[j]) / rho_bar)
-            alpha_u_ij = 0.5 * (alpha_u[i] + alpha_u[j])
-            du += m[j] * alpha_u_ij * vsig_u * (u[i] - u[j]) / rho_bar * Fbar
-            # velocity divergence and curl with the particle's own kernel
-            div -= m[j] * w * Fi
-            lap += 2.0 * m[j] / rho[j] * (u[i] - u[j]) * Fi / rij
-            if dim > 1:
-                curl += m[j] * (dv0 * ex1 - dv1 * ex0) * Fi
-        for d in range(dim):
-            dvdt[i, d] = acc[d]
+            du += m[j] * 0.5 * (alpha_u[i] + alpha_u[j]) * math.sqrt(abs(p[i] - p[j]) * inv_rho_bar) * (
+                u[i] - u[j]) * inv_rho_bar * Fbar
+            lap += 2.0 * volume[j] * (u[i] - u[j]) * Fi * inv_r
+            curl += m[j] * (dv0 * ex1 - dv1 * ex0) * Fi
+        dvdt[i, 0] = a0
+        if dim > 1:
+            dvdt[i, 1] = a1
+        if dim > 2:
+            dvdt[i, 2] = a2
         dudt[i] = du
         div_v[i] = div / (omega[i] * rho[i])
         curl_v[i] = abs(curl) / (omega[i] * rho[i])

@@ -26,10 +26,9 @@ from cases.checks import choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
-from compare.deposit import shepard
 from compare.io import write_particles
 from particle import kernels
-from particle.neighbours import neighbour_lists, periods
+from particle.neighbours import neighbour_lists, padded, periods
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
@@ -42,7 +41,7 @@ from particle.sph.particles import (
     place_2d,
     reflect_at_plane_walls,
 )
-from particle.sph.sampling import shepard_at_points
+from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import in_box, reflect_into_fluid, virtual_state, walls
 
@@ -51,6 +50,8 @@ SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: neighbour lists are first built for this multiple of the predicted support
 SEARCH_SLACK = 1.15
+#: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
+MIN_SUPPORT = 1e-3
 
 
 @dataclass
@@ -146,7 +147,8 @@ class GasSPH:
             m = np.concatenate([m_real, m_real[src]])
             guess = np.concatenate([H_real, H_real[src]])
             offsets, index = neighbour_lists(X, slack * guess, self.lo, self.hi, self.periodic)
-            rho, H, omega, converged = density_and_support(X, self.box, self.half, m, guess, slack * guess,
+            X3 = padded(X)
+            rho, H, omega, converged = density_and_support(X3, self.box, self.half, m, guess, slack * guess,
                                                            offsets, index, self.kind, dim, self.eta, n)
             failed = ~converged | (H >= (1.0 - 1e-6) * slack * guess[:n])
             if not failed.any():
@@ -161,15 +163,21 @@ class GasSPH:
         rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
         c = np.sqrt(gamma * p / rho_all)
-        return Evaluation(rho, H, *rates(X, self.box, self.half, V, m, u_all, rho_all, p, c, omega_all, H_all,
+        return Evaluation(rho, H, *rates(X3, self.box, self.half, padded(V), m, u_all, rho_all, p, c, omega_all, H_all,
                                          alpha_all, alpha_u_all, offsets, index, self.kind, dim, n))
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
-        """Shepard interpolation of particle ``values`` (k, n) on the grid
-        with cell-centre ``axes`` (x[, y]): the schema layout (k, [y,] x)."""
-        name, dim = self.kernel, self.dim
-        return shepard(P.x, values, P.m / E.rho, E.H, *axes, kernel=lambda r, H: kernels.w(name, r, H, dim),
-                       periodic=tuple(bool(b) for b in self.periodic), box=tuple(zip(self.lo, self.hi)))
+        """Shepard interpolation of particle ``values`` (k, n) on the uniform
+        grid with cell-centre ``axes`` (x[, y]): the schema layout (k, [y,] x)."""
+        gx = axes[0]
+        gy = axes[1] if self.dim == 2 else np.zeros(1)
+        y = P.x[:, 1] if self.dim == 2 else np.zeros(P.x.shape[0])
+        spacing_y = gy[1] - gy[0] if gy.size > 1 else 1.0
+        grids = shepard_on_grid(np.ascontiguousarray(P.x[:, 0]), np.ascontiguousarray(y), np.ascontiguousarray(values),
+                                P.m / E.rho, E.H, gx[0], gx[1] - gx[0], gx.size, gy[0], spacing_y, gy.size,
+                                bool(self.periodic[0]), self.dim == 2 and bool(self.periodic[1]), self.kind,
+                                self.dim, MIN_SUPPORT)
+        return grids if self.dim == 2 else grids[:, 0]
 
 
 def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
