@@ -67,6 +67,35 @@ def check_scene(scene) -> None:
                                  f"({scene.obstacles[j].to_dict()['shape']}) overlap; move them apart.")
 
 
+def check_obstacles(scene, dx: float) -> None:
+    """Refuse obstacles a run at spacing ``dx`` cannot represent: one less
+    than 4 cells (particle spacings) across, or one that reaches a side
+    where the state is imposed or wraps around (an inflow or a periodic
+    side: neither the inflow buffer nor the periodic images carry a solid)."""
+    from cases.scene import Inflow
+
+    if scene.obstacles and scene.dim != 2:
+        raise InputError(f"scene {scene.name}: obstacles need dim = 2.")
+    for i, shape in enumerate(scene.obstacles):
+        xmin, ymin, xmax, ymax = shape.bounds()
+        extent = min(xmax - xmin, ymax - ymin)
+        if extent < 4 * dx:
+            raise InputError(f"dx = {dx:g} m is too coarse for an obstacle of extent {extent:g} m: "
+                             f"use at least 4 cells across it (dx <= {extent / 4:g} m).")
+        for d, side in enumerate(scene.sides):
+            kind = scene.boundaries[side]
+            if not (kind == "periodic" or isinstance(kind, Inflow)):
+                continue
+            axis, upper = d // 2, d % 2 == 1
+            edge = scene.domain[axis][1 if upper else 0]
+            lo, hi = (xmin, xmax) if axis == 0 else (ymin, ymax)
+            if (hi >= edge) if upper else (lo <= edge):
+                what = "the inflow" if isinstance(kind, Inflow) else "the periodic"
+                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) reaches {what} "
+                                 f"side {side} ({'xy'[axis]} = {edge:g} m); keep obstacles clear of inflow and "
+                                 "periodic sides.")
+
+
 def check_initial_state(scene, rho, p, x, y=None, fluid=None) -> None:
     """Refuse an initial state with non-positive (or non-finite) density or
     pressure in the fluid, naming the first offending point."""

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import subprocess
 import sys
 
@@ -11,8 +12,9 @@ import pytest
 import xarray as xr
 
 import cases
-from cases.errors import InputError
+from cases.errors import InputError, SolverFailed
 from cases.scene import OutputGrid, Probe, Scene
+from cases.shapes import Circle
 from compare.io import read
 from compare.schema import SchemaError
 
@@ -158,11 +160,38 @@ def test_non_positive_dx(sod):
     assert "dx" in one_sentence(info.value)
 
 
-def test_obstacle_too_coarse_for_dx():
+@pytest.mark.parametrize("method", ["fv", "sph"])
+def test_obstacle_too_coarse_for_dx(method):
     scene = cases.get("cylinder_shock")  # 15 mm cylinder
     with pytest.raises(InputError) as info:
-        cases.run(scene, "fv", dx=5e-3, progress=False)  # 3 cells across it
+        cases.run(scene, method, dx=5e-3, progress=False)  # 3 cells (particle spacings) across it
     assert "dx" in one_sentence(info.value)
+
+
+@pytest.mark.parametrize("method", ["fv", "sph"])
+@pytest.mark.parametrize("case, centre, side", [("cylinder_shock", (0.005, 0.03), "x_lo"),
+                                                 ("blast_wall", (0.5, 0.11), "y_hi")])
+def test_obstacle_reaching_an_inflow_or_periodic_side(method, case, centre, side):
+    # a cylinder across the inlet (the buffer carries no solid) or across a periodic side
+    scene = cases.get(case, dim=2) if case == "blast_wall" else cases.get(case)
+    scene = dataclasses.replace(scene, obstacles=(Circle(*centre, 0.02),))
+    with pytest.raises(InputError) as info:
+        cases.run(scene, method, dx=2e-3, progress=False)
+    message = one_sentence(info.value)
+    assert "obstacle 0" in message and side in message
+
+
+def test_unstable_sph_run_stops_with_its_partial_result():
+    # a pressure ratio of 1e5 without artificial viscosity or conduction cannot be run
+    scene = cases.get("sod", left_p=1e5)
+    with pytest.raises(SolverFailed) as info:
+        cases.run(scene, "sph", dx=1 / 200, alpha_max=0.0, alpha_u=0.0, cfl=1.0, progress=False)
+    message = one_sentence(info.value)
+    assert "sph failed at t = " in message and "x = " in message
+    partial = info.value.partial
+    assert partial.attrs["status"] == "failed" and partial.attrs["failure"] == str(info.value)
+    assert 0.0 < float(partial.time[-1]) < scene.t_end
+    assert np.all(np.isfinite(partial.rho.isel(time=-1))) and float(partial.rho.isel(time=-1).min()) > 0.0
 
 
 def test_wedge_beyond_detachment():

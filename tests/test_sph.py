@@ -120,6 +120,23 @@ def test_sedov_2d_shock_radius_error_falls_with_resolution():
     assert ds.attrs["energy_drift"] <= 1e-3
 
 
+@pytest.mark.slow
+def test_noh_2d_post_shock_density_outside_the_wall_heating_core():
+    # the quarter plane with symmetry walls; the inflowing gas beyond x, y = 1 is carried by the
+    # extended particle set. gamma = 5/3: density 16 behind the shock at r = t/3 = 0.2 (Noh 1987)
+    scene = cases.get("noh", n_out=100)
+    ds = cases.run(scene, "sph", dx=0.01, progress=False)
+    rho = ds.rho.isel(time=-1).transpose("y", "x").values
+    X, Y = np.meshgrid(ds.x.values, ds.y.values)
+    r = np.hypot(X, Y)
+    shocked = (r > 0.1) & (r < 0.18)  # beyond the wall-heating core, inside the shock
+    assert np.mean(rho[shocked]) == pytest.approx(16.0, rel=0.1)
+    assert np.all(np.abs(rho[shocked] / 16.0 - 1.0) < 0.1)
+    # the pre-shock gas is compressed by convergence alone: rho0 (1 + u0 t / r)
+    ahead = (r > 0.3) & (r < 0.4)
+    np.testing.assert_allclose(rho[ahead], 1.0 + 0.6 / r[ahead], rtol=0.03)
+
+
 def wedge_sph(theta, dx, tmp_path):
     """A wedge run and the signed distance of every fluid particle to the wedge at the end."""
     scene = cases.get("wedge", theta_deg=theta)

@@ -8,7 +8,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from cases.checks import cfl as check_cfl
-from cases.checks import check_initial_state, choice, positive
+from cases.checks import check_initial_state, check_obstacles, choice, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
@@ -131,16 +131,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 def _immersed(scene, grid, dx):
     """The immersed boundary of the scene's obstacles on ``grid`` (or None),
     refusing a grid too coarse to resolve them."""
+    check_obstacles(scene, dx)
     if not scene.obstacles:
         return None
-    if scene.dim != 2:
-        raise InputError(f"scene {scene.name}: obstacles need dim = 2.")
-    for shape in scene.obstacles:
-        xmin, ymin, xmax, ymax = shape.bounds()
-        extent = min(xmax - xmin, ymax - ymin)
-        if extent < 4 * dx:
-            raise InputError(f"dx = {dx:g} m is too coarse for an obstacle of extent {extent:g} m: "
-                             f"use at least 4 cells across it (dx <= {extent / 4:g} m).")
     return immersed_boundary(grid, scene.obstacles)
 
 

@@ -15,6 +15,7 @@ likewise for the specific internal energy, with
 from __future__ import annotations
 
 import time as _time
+import dataclasses
 from dataclasses import dataclass
 
 import numba
@@ -22,7 +23,7 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
-from cases.checks import choice, in_range, positive
+from cases.checks import check_obstacles, choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
@@ -204,6 +205,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
+    check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     reach = outflow_reach(scene, dx, t_end, 4.0 * SEARCH_SLACK * eta * dx)
     box = extended_domain(scene, reach)
@@ -232,31 +234,33 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
             while t < t_out * (1 - 1e-14):
                 speed = E.vsig + np.linalg.norm(P.v, axis=1)
                 dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
+                # the step works on a copy: a failed step leaves P and E, the last consistent state
+                Q = dataclasses.replace(P)
                 v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
                 # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
-                P.H = E.H * np.exp(dt * E.div_v / dim)
-                v_pred, u_pred = P.v + dt * E.dvdt, P.u + dt * E.dudt
-                P.x = sph.wrap(P.x + dt * v_half)
+                Q.H = E.H * np.exp(dt * E.div_v / dim)
+                v_pred, u_pred = Q.v + dt * E.dvdt, Q.u + dt * E.dudt
+                Q.x = sph.wrap(Q.x + dt * v_half)
                 # the safeguard: a particle the walls did not stop is mirrored back into the fluid
-                P.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, P.x, v_half, v_pred)
+                Q.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, Q.x, v_half, v_pred)
                 run.reflections += reflected
                 if sph.wall is not None:
-                    P.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, P.x, v_half, v_pred)
+                    Q.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, Q.x, v_half, v_pred)
                     run.reflections += reflected
                 div_old = E.div_v
                 if inflow:
                     # buffer particles that crossed the inlet join the fluid with the imposed state
-                    new = _entering(inflow, t, dt, eta, P.m[0], alpha_min)
-                    P.append(new)
+                    new = _entering(inflow, t, dt, eta, Q.m[0], alpha_min)
+                    Q.append(new)
                     v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
                     u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
                     div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
-                stay = sph.retained(P.x)
+                stay = sph.retained(Q.x)
                 if not stay.all():
-                    P.keep(stay)
+                    Q.keep(stay)
                     v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
                 try:
-                    E_new = sph.evaluate(P, P.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
+                    E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
                 except FloatingPointError as err:
                     raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
                                       lambda: run.fields(P, E)) from None
@@ -264,12 +268,13 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
                     k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
                     raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                      f"internal energy {u_new[k]:.3g} at x = {P.x[k].round(6).tolist()} m.", t,
+                                      f"internal energy {u_new[k]:.3g} at x = {Q.x[k].round(6).tolist()} m.", t,
                                       lambda: run.fields(P, E))
-                P.alpha_u = conduction_switch(P.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
-                P.alpha = cullen_dehnen(P.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
+                Q.alpha_u = conduction_switch(Q.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
+                Q.alpha = cullen_dehnen(Q.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
                                         alpha_max, alpha_min)
-                P.v, P.u, P.H, P.rho, E = v_new, u_new, E_new.H, E_new.rho, E_new
+                Q.v, Q.u, Q.H, Q.rho = v_new, u_new, E_new.H, E_new.rho
+                P, E = Q, E_new
                 t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                 run.n_steps += 1
                 bar.update(dt)
