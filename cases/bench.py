@@ -33,21 +33,25 @@ def _machine() -> dict:
 THROUGHPUT = {"fv": ("cell_updates_per_s", "cells/s"), "sph": ("particle_steps_per_s", "particles/s")}
 
 
-def throughput(method: str, size: int, t_end: float) -> dict:
+def throughput(method: str, size: int, t_end: float) -> list[dict]:
     """Elements advanced per second by ``method`` on 2D Sedov with ``size``²
-    cells or particles (float64) run to ``t_end``, compile time excluded.
-    Defaults used by :func:`bench`: FV at 512² to 0.02 (about 160 steps),
-    SPH with 320² = 102 400 particles to 2e-3."""
+    cells or particles (float64) run to ``t_end``, compile time excluded
+    (output frames included). Defaults used by :func:`bench`: FV at 512² to
+    0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3 (about
+    20 steps). SPH adds the pairs per second of its force pass (the pairs in
+    its neighbour lists over the seconds spent in that pass)."""
     scene = get("sedov", n_out=size)
     ds = run(scene, method, dx=scene.dx, t_end=t_end, progress=False)
     n = ds.attrs["n_elements"]
     metric, unit = THROUGHPUT[method]
-    return {
-        "method": method, "case": "sedov", "n_elements": n, "metric": metric,
-        "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit,
-        "compile_seconds": ds.attrs["compile_seconds"], "wall_seconds": ds.attrs["wall_seconds"],
-        "n_steps": ds.attrs["n_steps"], "precision": "float64",
-    }
+    common = {"method": method, "case": "sedov", "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
+              "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"], "precision": "float64"}
+    records = [{**common, "metric": metric, "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit}]
+    if method == "sph":
+        records.append({**common, "metric": "force_pairs_per_s", "unit": "pairs/s",
+                        "value": ds.attrs["force_pairs"] / ds.attrs["seconds_forces"],
+                        **{k: ds.attrs[k] for k in ("seconds_search", "seconds_density", "seconds_forces")}})
+    return records
 
 
 def time_to_accuracy(method: str) -> list[dict]:
@@ -76,9 +80,9 @@ def time_to_accuracy(method: str) -> list[dict]:
 def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = False) -> list[dict]:
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
-    sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 320, 2e-3)}
+    sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3)}
     for method in (m for m in THROUGHPUT if m in methods()):
-        records.append(throughput(method, *sizes[method]))
+        records += throughput(method, *sizes[method])
         records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()

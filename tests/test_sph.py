@@ -1,6 +1,7 @@
 """Gas SPH (method ``sph``) against exact solutions and conservation laws."""
 
 import dataclasses
+import importlib
 
 import numpy as np
 import pytest
@@ -217,3 +218,17 @@ def test_2d_placement_of_a_planar_shock_gives_each_region_its_mass():
     # too strong a density ratio for rows of one spacing is refused in one sentence
     with pytest.raises(cases.errors.InputError, match="ratio"):
         place_2d(cases.get("cylinder_shock", Ms=3.0), dx, scene.domain)
+
+
+def test_memory_resort_changes_nothing_but_round_off(monkeypatch):
+    # the particle arrays re-sorted along the cells every step or never: the same run
+    sph_solve = importlib.import_module("particle.sph.solve")
+    scene = cases.get("sedov", n_out=32, t_end=0.1)
+    runs = []
+    for every in (1, 10**9):
+        monkeypatch.setattr(sph_solve, "RESORT_STEPS", every)
+        runs.append(cases.run(scene, "sph", dx=2.0 / 32, progress=False))
+    a, b = (ds.isel(time=-1) for ds in runs)
+    assert runs[0].attrs["n_steps"] == runs[1].attrs["n_steps"] > 10
+    for name in ("rho", "p", "u", "v"):
+        np.testing.assert_allclose(a[name], b[name], rtol=1e-9, atol=1e-9 * float(np.abs(b[name]).max()))

@@ -29,7 +29,7 @@ from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.io import write_particles
 from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods
+from particle.neighbours import neighbour_lists, padded, periods, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
@@ -51,6 +51,8 @@ SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: neighbour lists are first built for this multiple of the predicted support
 SEARCH_SLACK = 1.15
+#: the particle arrays are re-sorted along the search cells every so many steps
+RESORT_STEPS = 10
 #: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
 MIN_SUPPORT = 1e-3
 
@@ -71,6 +73,10 @@ class Particles:
     rho: np.ndarray
 
     FIELDS = ("x", "v", "u", "m", "H", "alpha", "alpha_u", "rho")
+
+    def take(self, order) -> "Particles":
+        """The particles in the order ``order`` (a permutation)."""
+        return Particles(*(getattr(self, name)[order] for name in self.FIELDS))
 
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
@@ -96,6 +102,10 @@ class Evaluation:
     vsig: np.ndarray
     lap_u: np.ndarray
 
+    def take(self, order) -> "Evaluation":
+        """The evaluation with its particles in the order ``order``."""
+        return Evaluation(*(getattr(self, f.name)[order] for f in dataclasses.fields(self)))
+
 
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
@@ -103,6 +113,10 @@ class GasSPH:
     def __init__(self, scene, kernel: str, eta: float, region, open_=(), wall=None):
         self.scene, self.kernel, self.eta = scene, kernel, eta
         self.region, self.open, self.wall = region, open_, wall
+        #: wall seconds spent in each pass, and the pairs in the force pass's lists
+        #: (r < SEARCH_SLACK max(H_i, H_j)), summed over the run
+        self.seconds = dict.fromkeys(("search", "density", "forces"), 0.0)
+        self.force_pairs = 0
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -147,10 +161,14 @@ class GasSPH:
             X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
             m = np.concatenate([m_real, m_real[src]])
             guess = np.concatenate([H_real, H_real[src]])
+            t0 = _time.perf_counter()
             offsets, index = neighbour_lists(X, slack * guess, self.lo, self.hi, self.periodic)
             X3 = padded(X)
+            t1 = _time.perf_counter()
             rho, H, omega, converged = density_and_support(X3, self.box, self.half, m, guess, slack * guess,
                                                            offsets, index, self.kind, dim, self.eta, n)
+            self.seconds["search"] += t1 - t0
+            self.seconds["density"] += _time.perf_counter() - t1
             failed = ~converged | (H >= (1.0 - 1e-6) * slack * guess[:n])
             if not failed.any():
                 break
@@ -164,8 +182,13 @@ class GasSPH:
         rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
         c = np.sqrt(gamma * p / rho_all)
-        return Evaluation(rho, H, *rates(X3, self.box, self.half, padded(V), m, u_all, rho_all, p, c, omega_all, H_all,
-                                         alpha_all, alpha_u_all, offsets, index, self.kind, dim, n))
+        V3 = padded(V)
+        t0 = _time.perf_counter()
+        E = Evaluation(rho, H, *rates(X3, self.box, self.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
+                                      alpha_all, alpha_u_all, offsets, index, self.kind, dim, n))
+        self.seconds["forces"] += _time.perf_counter() - t0
+        self.force_pairs += int(offsets[n])
+        return E
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
         """Shepard interpolation of particle ``values`` (k, n) on the uniform
@@ -222,6 +245,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
+    sph.seconds, sph.force_pairs = dict.fromkeys(sph.seconds, 0.0), 0  # the pass timings exclude compilation
     P.H, P.rho = E.H, E.rho
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
@@ -232,6 +256,10 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     try:
         for t_out in out_times:
             while t < t_out * (1 - 1e-14):
+                if run.n_steps % RESORT_STEPS == 0:
+                    # neighbours next to each other in memory: particles sorted cell by cell
+                    order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
+                    P, E = P.take(order), E.take(order)
                 speed = E.vsig + np.linalg.norm(P.v, axis=1)
                 dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
                 # the step works on a copy: a failed step leaves P and E, the last consistent state
@@ -423,7 +451,8 @@ class _Run(RunRecord):
                   "predictor-corrector leapfrog, mirror-particle plane walls"
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
-                 "wall_reflections": self.reflections}
+                 "wall_reflections": self.reflections, "force_pairs": self.sph.force_pairs,
+                 **{f"seconds_{name}": seconds for name, seconds in self.sph.seconds.items()}}
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0, self.totals
