@@ -41,7 +41,7 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["cell_grid", "neighbour_lists", "neighbours", "padded", "periods", "separation", "separations", "sort_order"]
+__all__ = ["cell_grid", "counting_sort", "neighbour_lists", "neighbours", "padded", "periods", "separation", "separations", "sort_order"]
 
 # Cells are made this much wider than max H / reach, so that a particle put
 # one cell off by round-off still finds every neighbour.
@@ -83,7 +83,7 @@ def _cell_ids(x, origin, width, ncell, per):
 
 
 @numba.njit(cache=True)
-def _counting_sort(cid, ntot):
+def counting_sort(cid, ntot):
     """Stable counting sort: ``order`` lists particles cell by cell (index
     order within a cell); ``start[c]:start[c+1]`` is cell c's slice."""
     n = cid.size
@@ -533,7 +533,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
     H_cell = _cell_support(H)
     origin, width, ncell, per3, box = cell_grid(x, lo, hi, per, H_cell / s)
     cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
-    start, order = _counting_sort(cid, int(np.prod(ncell)))
+    start, order = counting_sort(cid, int(np.prod(ncell)))
     xs0, xs1, xs2, Hs, cid3 = _gather(x, H, order, cid, ncell, origin, per3, box)
     half = np.where(per3, 0.5 * box, np.inf)
     # particles wider than the cells scan a stencil wide enough for their own support
@@ -641,5 +641,5 @@ def sort_order(x, lo, hi, cell_size):
         return np.zeros(0, dtype=np.int64)
     origin, width, ncell, per3, _ = cell_grid(x, lo, hi, np.zeros(dim, bool), cs)
     cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
-    _, order = _counting_sort(cid, int(np.prod(ncell)))
+    _, order = counting_sort(cid, int(np.prod(ncell)))
     return order

@@ -16,6 +16,7 @@ import numba
 import numpy as np
 
 from particle.kernels import kernel_w
+from particle.neighbours import counting_sort
 
 
 @numba.njit(parallel=True, cache=True)
@@ -48,25 +49,12 @@ def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
 
 @numba.njit(cache=True)
 def _rows_of(y, y0, dy, ny, periodic, length):
-    """Grid row of every particle (clipped into [0, ny) off a periodic axis),
-    and the particles sorted by row: ``(start, order)``, row r's particles
-    being ``order[start[r]:start[r + 1]]`` in their input order."""
-    n = y.size
-    row = np.empty(n, dtype=np.int64)
-    for j in range(n):
+    """Grid row of every particle (clipped into [0, ny) off a periodic axis)."""
+    row = np.empty(y.size, dtype=np.int64)
+    for j in range(y.size):
         yj = y[j] - length * math.floor((y[j] - y0 + 0.5 * dy) / length) if periodic else y[j]
         row[j] = min(max(int(math.floor((yj - y0) / dy + 0.5)), 0), ny - 1)
-    start = np.zeros(ny + 1, dtype=np.int64)
-    for j in range(n):
-        start[row[j] + 1] += 1
-    for r in range(ny):
-        start[r + 1] += start[r]
-    fill = start[:-1].copy()
-    order = np.empty(n, dtype=np.int64)
-    for j in range(n):
-        order[fill[row[j]]] = j
-        fill[row[j]] += 1
-    return start, order
+    return row
 
 
 @numba.njit(parallel=True, cache=True)
@@ -85,7 +73,8 @@ def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x
     reach = int(math.ceil(H_max / dy)) + 1 if dim > 1 else 0
     if periodic_y:
         reach = min(reach, (ny - 1) // 2)
-    start, order = _rows_of(y, y0, dy, ny, periodic_y, Ly)
+    # row r's particles, in their input order: order[start[r]:start[r + 1]]
+    start, order = counting_sort(_rows_of(y, y0, dy, ny, periodic_y, Ly), ny)
     num = np.zeros((k, ny, nx))
     den = np.zeros((ny, nx))
     for r in numba.prange(ny):

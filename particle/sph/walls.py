@@ -86,7 +86,7 @@ from cases.errors import InputError
 from cases.shapes import Shape
 from compare.checks import positive
 from particle.kernels import kernel_id, skewed_grad, skewed_w
-from particle.neighbours import _counting_sort, cell_grid
+from particle.neighbours import counting_sort, cell_grid
 
 __all__ = [
     "SKEW",
@@ -349,7 +349,7 @@ def points_within_support(points, x, H) -> tuple[np.ndarray, np.ndarray, np.ndar
     origin, width, ncell, _, _ = cell_grid(x, lo, hi, (False, False), float(H.max()))
     cid = (np.clip(np.floor((x[:, 0] - origin[0]) / width[0]), 0, ncell[0] - 1).astype(np.int64)
            + ncell[0] * np.clip(np.floor((x[:, 1] - origin[1]) / width[1]), 0, ncell[1] - 1).astype(np.int64))
-    start, order = _counting_sort(cid, int(ncell[0] * ncell[1]))
+    start, order = counting_sort(cid, int(ncell[0] * ncell[1]))
     xs, Hs = x[order], H[order]
     grid = (xs, Hs, start, origin[:2], width[:2], ncell[:2])
     none = np.zeros(0, np.int64)
