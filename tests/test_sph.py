@@ -138,6 +138,20 @@ def test_noh_2d_post_shock_density_outside_the_wall_heating_core():
     np.testing.assert_allclose(rho[ahead], 1.0 + 0.6 / r[ahead], rtol=0.03)
 
 
+@pytest.mark.slow
+def test_sedov_2d_with_250k_particles():
+    # 500² particles to t = 0.5 (about 35 minutes on two cores): the shock radius within 3 % of
+    # Sedov-Taylor, the total energy within 1e-3, the mass exact
+    scene = cases.get("sedov", n_out=500)
+    ds = cases.run(scene, "sph", dx=2.0 / 500, progress=False)
+    from compare import exact, metrics
+
+    assert ds.attrs["n_elements"] >= 250_000
+    radius = metrics.shock_radius(ds.rho.isel(time=-1))
+    assert radius == pytest.approx(float(exact.shock_radius(scene.t_end, 1.0, 1.0)), rel=0.03)
+    assert ds.attrs["energy_drift"] <= 1e-3 and ds.attrs["mass_drift"] == 0.0
+
+
 def wedge_sph(theta, dx, tmp_path):
     """A wedge run and the signed distance of every fluid particle to the wedge at the end."""
     scene = cases.get("wedge", theta_deg=theta)
