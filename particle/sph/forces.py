@@ -39,8 +39,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     ``x`` and ``v`` are (N, 3) (:func:`particle.neighbours.padded`: zeros
     beyond ``dim``), ``box``/``half`` as from :func:`particle.neighbours.periods`.
     The per-particle factors (1/H, σ_d/H^(d+1), p/(Ωρ²), m/ρ) are computed
-    once, so the pair loop does two kernel-derivative polynomials, one
-    square root and one division per pair."""
+    once, so the pair loop does two kernel-derivative polynomials, two
+    square roots (r and the conduction signal speed) and two divisions
+    (1/r and 1/ρ̄) per pair."""
     N = x.shape[0]
     inv_H = np.empty(N)
     grad_scale = np.empty(N)

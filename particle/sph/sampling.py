@@ -47,12 +47,19 @@ def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     return out
 
 
+@numba.njit(cache=True, inline="always")
+def _wrapped(v, c0, spacing, length):
+    """Coordinate ``v`` moved by whole periods ``length`` into the box of a
+    periodic axis whose first cell centre is ``c0``: [c0 − spacing/2, c0 − spacing/2 + length)."""
+    return v - length * math.floor((v - c0 + 0.5 * spacing) / length)
+
+
 @numba.njit(cache=True)
 def _rows_of(y, y0, dy, ny, periodic, length):
     """Grid row of every particle (clipped into [0, ny) off a periodic axis)."""
     row = np.empty(y.size, dtype=np.int64)
     for j in range(y.size):
-        yj = y[j] - length * math.floor((y[j] - y0 + 0.5 * dy) / length) if periodic else y[j]
+        yj = _wrapped(y[j], y0, dy, length) if periodic else y[j]
         row[j] = min(max(int(math.floor((yj - y0) / dy + 0.5)), 0), ny - 1)
     return row
 
@@ -94,7 +101,7 @@ def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x
                 if abs(ey) >= H[j]:
                     continue
                 half_chord = math.sqrt(H[j] * H[j] - ey * ey)
-                xj = x[j] - Lx * math.floor((x[j] - x0 + 0.5 * dx) / Lx) if periodic_x else x[j]
+                xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
                 i_lo = int(math.ceil((xj - half_chord - x0) / dx))
                 i_hi = int(math.floor((xj + half_chord - x0) / dx))
                 if not periodic_x:

@@ -240,7 +240,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) every numba kernel
     E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
-    cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
+    P.alpha = cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
     P.alpha_u = conduction_switch(P.alpha_u, E.lap_u, P.u, E.vsig, E.H, 1.0, alpha_u, 0.0)
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
