@@ -31,17 +31,24 @@ from particle.kernels import SIGMA, shape_derivative
 from particle.neighbours import separation
 
 
-@numba.njit(parallel=True, cache=True)
-def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n):
-    """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u)`` for the first ``n``
-    particles (the fluid; ghosts after them only serve as neighbours).
+@numba.njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
+def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n, chunks):
+    """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u, interactions)`` for the
+    first ``n`` particles (the fluid; ghosts after them only serve as
+    neighbours); ``interactions`` counts the ordered pairs (i fluid, j) with
+    r_ij < max(H_i, H_j) whose terms were summed.
 
     ``x`` and ``v`` are (N, 3) (:func:`particle.neighbours.padded`: zeros
     beyond ``dim``), ``box``/``half`` as from :func:`particle.neighbours.periods`.
-    The per-particle factors (1/H, σ_d/H^(d+1), p/(Ωρ²), m/ρ) are computed
-    once, so the pair loop does two kernel-derivative polynomials, two
-    square roots (r and the conduction signal speed) and two divisions
-    (1/r and 1/ρ̄) per pair."""
+    Each fluid–fluid pair is evaluated once, in the row of its smaller index,
+    and its terms are added to both particles (the lists are symmetric: j is
+    in i's list exactly when i is in j's). The rows are cut into ``chunks``
+    contiguous chunks (one per thread) and every chunk scatters into its own
+    accumulators, summed in chunk order at the end: no write races, and the
+    result does not change from run to run at a given chunk count. The
+    per-particle factors (1/H, σ_d/H^(d+1), p/(Ωρ²), m/ρ) are computed once,
+    so a pair costs two kernel-derivative polynomials, two square roots (r
+    and the conduction signal speed) and two divisions (1/r and 1/ρ̄)."""
     N = x.shape[0]
     inv_H = np.empty(N)
     grad_scale = np.empty(N)
@@ -53,71 +60,117 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
         grad_scale[j] = sigma * inv_H[j] ** (dim + 1)
         p_term[j] = p[j] / (omega[j] * rho[j] * rho[j])
         volume[j] = m[j] / rho[j]
-    dvdt = np.zeros((n, dim))
-    dudt = np.zeros(n)
-    div_v = np.zeros(n)
-    curl_v = np.zeros(n)
-    vsig_max = np.zeros(n)
-    lap_u = np.zeros(n)
+    nchunk = max(1, min(chunks, n))
+    # per chunk and particle: a0, a1, a2, du, div, curl, lap, vsig
+    acc = np.zeros((nchunk, n, 8))
+    counted = np.zeros(nchunk, dtype=np.int64)
+    for ch in numba.prange(nchunk):
+        out = acc[ch]
+        pairs = 0
+        for i in range(ch * n // nchunk, (ch + 1) * n // nchunk):
+            a0 = 0.0
+            a1 = 0.0
+            a2 = 0.0
+            du = 0.0
+            div = 0.0
+            curl = 0.0
+            lap = 0.0
+            vsig_i = c[i]
+            for k in range(offsets[i], offsets[i + 1]):
+                j = index[k]
+                if j < i:
+                    continue  # evaluated in row j
+                d0, d1, d2, rij = separation(x, i, j, box, half)
+                qi = rij * inv_H[i]
+                qj = rij * inv_H[j]
+                if (qi >= 1.0 and qj >= 1.0) or rij <= 0.0:
+                    continue
+                Fi = grad_scale[i] * shape_derivative(kind, qi) if qi < 1.0 else 0.0
+                Fj = grad_scale[j] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
+                inv_r = 1.0 / rij
+                ex0 = d0 * inv_r
+                ex1 = d1 * inv_r
+                ex2 = d2 * inv_r
+                dv0 = v[i, 0] - v[j, 0]
+                dv1 = v[i, 1] - v[j, 1]
+                dv2 = v[i, 2] - v[j, 2]
+                w = dv0 * ex0 + dv1 * ex1 + dv2 * ex2  # v_ij · x̂_ij (the same seen from j)
+                Fbar = 0.5 * (Fi + Fj)
+                inv_rho_bar = 2.0 / (rho[i] + rho[j])
+                # pressure force (grad-h variational form) per unit neighbour mass
+                g = p_term[i] * Fi + p_term[j] * Fj
+                # artificial viscosity
+                alpha_ij = 0.5 * (alpha[i] + alpha[j])
+                vsig = 0.5 * (c[i] + c[j])
+                visc = 0.0
+                if w < 0.0:
+                    vsig -= alpha_ij * w
+                    visc = -alpha_ij * vsig * w * inv_rho_bar * Fbar
+                    g += visc
+                vsig_i = max(vsig_i, vsig)
+                # artificial conduction per unit neighbour mass, times (u_i − u_j)
+                cond = 0.5 * (alpha_u[i] + alpha_u[j]) * math.sqrt(abs(p[i] - p[j]) * inv_rho_bar) * inv_rho_bar * Fbar
+                du_ij = u[i] - u[j]
+                twist = dv0 * ex1 - dv1 * ex0
+                mj = m[j]
+                f = mj * g
+                a0 -= f * ex0
+                a1 -= f * ex1
+                a2 -= f * ex2
+                # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i), and ∇·v with the particle's own kernel
+                mwF = mj * w * Fi
+                du += mj * (0.5 * visc * w + cond * du_ij) + p_term[i] * mwF
+                div -= mwF
+                lap += 2.0 * volume[j] * du_ij * Fi * inv_r
+                curl += mj * twist * Fi
+                pairs += 1
+                if j >= n:
+                    continue  # a ghost or imposed particle: its rates are not needed
+                # the same pair seen from j: x̂_ji = −x̂_ij, v_ji·x̂_ji = w
+                mi = m[i]
+                f = mi * g
+                out[j, 0] += f * ex0
+                out[j, 1] += f * ex1
+                out[j, 2] += f * ex2
+                mwF = mi * w * Fj
+                out[j, 3] += mi * (0.5 * visc * w - cond * du_ij) + p_term[j] * mwF
+                out[j, 4] -= mwF
+                out[j, 5] += mi * twist * Fj
+                out[j, 6] -= 2.0 * volume[i] * du_ij * Fj * inv_r
+                out[j, 7] = max(out[j, 7], vsig)
+                pairs += 1
+            out[i, 0] += a0
+            out[i, 1] += a1
+            out[i, 2] += a2
+            out[i, 3] += du
+            out[i, 4] += div
+            out[i, 5] += curl
+            out[i, 6] += lap
+            out[i, 7] = max(out[i, 7], vsig_i)
+        counted[ch] = pairs
+    dvdt = np.empty((n, dim))
+    dudt = np.empty(n)
+    div_v = np.empty(n)
+    curl_v = np.empty(n)
+    vsig_max = np.empty(n)
+    lap_u = np.empty(n)
     for i in numba.prange(n):
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        du = 0.0
-        div = 0.0
-        curl = 0.0
-        lap = 0.0
-        vsig_i = c[i]
-        for k in range(offsets[i], offsets[i + 1]):
-            j = index[k]
-            d0, d1, d2, rij = separation(x, i, j, box, half)
-            qi = rij * inv_H[i]
-            qj = rij * inv_H[j]
-            if (qi >= 1.0 and qj >= 1.0) or rij <= 0.0:
-                continue
-            Fi = grad_scale[i] * shape_derivative(kind, qi) if qi < 1.0 else 0.0
-            Fj = grad_scale[j] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
-            inv_r = 1.0 / rij
-            ex0 = d0 * inv_r
-            ex1 = d1 * inv_r
-            ex2 = d2 * inv_r
-            dv0 = v[i, 0] - v[j, 0]
-            dv1 = v[i, 1] - v[j, 1]
-            dv2 = v[i, 2] - v[j, 2]
-            w = dv0 * ex0 + dv1 * ex1 + dv2 * ex2  # v_ij · x̂_ij
-            Fbar = 0.5 * (Fi + Fj)
-            inv_rho_bar = 2.0 / (rho[i] + rho[j])
-            # pressure force (grad-h variational form)
-            f = m[j] * (p_term[i] * Fi + p_term[j] * Fj)
-            # artificial viscosity
-            alpha_ij = 0.5 * (alpha[i] + alpha[j])
-            vsig = 0.5 * (c[i] + c[j])
-            if w < 0.0:
-                vsig -= alpha_ij * w
-                visc = -alpha_ij * vsig * w * inv_rho_bar * m[j] * Fbar
-                f += visc
-                du += 0.5 * visc * w
-            vsig_i = max(vsig_i, vsig)
-            a0 -= f * ex0
-            a1 -= f * ex1
-            a2 -= f * ex2
-            # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i), and ∇·v with the particle's own kernel
-            mwF = m[j] * w * Fi
-            du += p_term[i] * mwF
-            div -= mwF
-            # artificial conduction
-            du += m[j] * 0.5 * (alpha_u[i] + alpha_u[j]) * math.sqrt(abs(p[i] - p[j]) * inv_rho_bar) * (
-                u[i] - u[j]) * inv_rho_bar * Fbar
-            lap += 2.0 * volume[j] * (u[i] - u[j]) * Fi * inv_r
-            curl += m[j] * (dv0 * ex1 - dv1 * ex0) * Fi
-        dvdt[i, 0] = a0
-        if dim > 1:
-            dvdt[i, 1] = a1
-        if dim > 2:
-            dvdt[i, 2] = a2
-        dudt[i] = du
-        div_v[i] = div / (omega[i] * rho[i])
-        curl_v[i] = abs(curl) / (omega[i] * rho[i])
-        vsig_max[i] = vsig_i
-        lap_u[i] = lap
-    return dvdt, dudt, div_v, curl_v, vsig_max, lap_u
+        for q in range(7):
+            total = 0.0
+            for ch in range(nchunk):
+                total += acc[ch, i, q]
+            if q < dim:
+                dvdt[i, q] = total
+            elif q == 3:
+                dudt[i] = total
+            elif q == 4:
+                div_v[i] = total / (omega[i] * rho[i])
+            elif q == 5:
+                curl_v[i] = abs(total) / (omega[i] * rho[i])
+            elif q == 6:
+                lap_u[i] = total
+        fastest = 0.0
+        for ch in range(nchunk):
+            fastest = max(fastest, acc[ch, i, 7])
+        vsig_max[i] = fastest
+    return dvdt, dudt, div_v, curl_v, vsig_max, lap_u, counted.sum()

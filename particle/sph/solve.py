@@ -113,10 +113,10 @@ class GasSPH:
     def __init__(self, scene, kernel: str, eta: float, region, open_=(), wall=None):
         self.scene, self.kernel, self.eta = scene, kernel, eta
         self.region, self.open, self.wall = region, open_, wall
-        #: wall seconds spent in each pass, and the pairs in the force pass's lists
-        #: (r < SEARCH_SLACK max(H_i, H_j)), summed over the run
+        #: wall seconds spent in each pass, and the interactions the force pass
+        #: summed (ordered pairs i fluid, r_ij < max(H_i, H_j)), over the run
         self.seconds = dict.fromkeys(("search", "density", "forces"), 0.0)
-        self.force_pairs = 0
+        self.force_interactions = 0
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -184,10 +184,12 @@ class GasSPH:
         c = np.sqrt(gamma * p / rho_all)
         V3 = padded(V)
         t0 = _time.perf_counter()
-        E = Evaluation(rho, H, *rates(X3, self.box, self.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
-                                      alpha_all, alpha_u_all, offsets, index, self.kind, dim, n))
+        *derived, interactions = rates(X3, self.box, self.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
+                                       alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
+                                       numba.get_num_threads())
+        E = Evaluation(rho, H, *derived)
         self.seconds["forces"] += _time.perf_counter() - t0
-        self.force_pairs += int(offsets[n])
+        self.force_interactions += int(interactions)
         return E
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
@@ -245,7 +247,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
-    sph.seconds, sph.force_pairs = dict.fromkeys(sph.seconds, 0.0), 0  # the pass timings exclude compilation
+    sph.seconds, sph.force_interactions = dict.fromkeys(sph.seconds, 0.0), 0  # the pass timings exclude compilation
     P.H, P.rho = E.H, E.rho
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
@@ -451,7 +453,7 @@ class _Run(RunRecord):
                   "predictor-corrector leapfrog, mirror-particle plane walls"
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
-                 "wall_reflections": self.reflections, "force_pairs": self.sph.force_pairs,
+                 "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.seconds.items()}}
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
