@@ -130,32 +130,50 @@ def _rows(scene, dx: float, box, ny: int) -> tuple[np.ndarray, float]:
     return x, before[-1] / n
 
 
+def _mirror_sides(scene, open_):
+    """``(bit, axis, upper, wall position, velocity sign)`` of every side
+    ghosts are mirrored across, in the order they are applied: reflecting
+    sides (normal velocity reversed) and the open sides of ``open_`` (kept)."""
+    sides = []
+    for d, side in enumerate(scene.sides):
+        reflect = scene.boundaries[side] == "reflect"
+        if reflect or side in open_:
+            axis, upper = d // 2, d % 2
+            sides.append((d, axis, upper, scene.domain[axis][upper], -1.0 if reflect else 1.0))
+    return sides
+
+
 def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
     """Mirror particles across every reflecting side and every side of
-    ``open_`` (outflow sides the flow runs along): positions, velocities
-    (normal component reversed at a reflecting wall, kept at an open side:
-    zero gradient, as in the finite-volume outflow), and the index of each
-    ghost's source particle. Sides are mirrored in turn, so a corner between two
-    such sides gets the double mirror image."""
-    src = np.arange(x.shape[0])
-    gx, gv, gsrc = [x], [v], [src]
-    for d, side in enumerate(scene.sides):
-        axis, upper = d // 2, d % 2 == 1
-        reflect = scene.boundaries[side] == "reflect"
-        if not (reflect or side in open_):
-            continue
-        wall = scene.domain[axis][1 if upper else 0]
-        all_x, all_v, all_src = np.concatenate(gx), np.concatenate(gv), np.concatenate(gsrc)
-        near = (all_x[:, axis] > wall - reach) if upper else (all_x[:, axis] < wall + reach)
-        mx, mv = all_x[near].copy(), all_v[near].copy()
+    ``open_`` (outflow sides the flow runs along), for the particles within
+    ``reach`` of the side: ``(gx, gv, src, sides)``, the ghosts' positions
+    and velocities (normal component reversed at a reflecting wall, kept at
+    an open side: zero gradient, as in the finite-volume outflow), the index
+    of each ghost's source particle and the bit mask of the sides it is
+    mirrored across. Sides are mirrored in turn, so a corner between two
+    such sides gets the double mirror image; :func:`mirror_images` makes the
+    same ghosts again from moved sources."""
+    src, mask, gx = np.arange(x.shape[0]), np.zeros(x.shape[0], dtype=np.int64), x
+    for bit, axis, upper, wall, _ in _mirror_sides(scene, open_):
+        near = (gx[:, axis] > wall - reach) if upper else (gx[:, axis] < wall + reach)
+        mx = gx[near].copy()
         mx[:, axis] = 2.0 * wall - mx[:, axis]
-        if reflect:
-            mv[:, axis] = -mv[:, axis]
-        gx.append(mx)
-        gv.append(mv)
-        gsrc.append(all_src[near])
+        src, mask, gx = (np.concatenate([src, src[near]]), np.concatenate([mask, mask[near] | (1 << bit)]),
+                         np.concatenate([gx, mx]))
     n = x.shape[0]
-    return np.concatenate(gx)[n:], np.concatenate(gv)[n:], np.concatenate(gsrc)[n:]
+    return (*mirror_images(scene, x, v, src[n:], mask[n:], open_), src[n:], mask[n:])
+
+
+def mirror_images(scene, x, v, src, sides, open_: tuple[str, ...] = ()):
+    """``(gx, gv)``: the ghosts of :func:`mirror_ghosts` with sources ``src``
+    and side masks ``sides``, made from the sources' positions ``x`` and
+    velocities ``v``."""
+    gx, gv = x[src], v[src]
+    for bit, axis, _, wall, sign in _mirror_sides(scene, open_):
+        across = (sides & (1 << bit)) != 0
+        gx[across, axis] = 2.0 * wall - gx[across, axis]
+        gv[across, axis] *= sign
+    return gx, gv
 
 
 def reflect_at_plane_walls(scene, x, *velocities):

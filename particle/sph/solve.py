@@ -37,6 +37,7 @@ from particle.sph.particles import (
     check_supported,
     extended_domain,
     mirror_ghosts,
+    mirror_images,
     outflow_reach,
     place_1d,
     place_2d,
@@ -49,8 +50,12 @@ from particle.sph.walls import in_box, reflect_into_fluid, virtual_state, walls
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles")
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
-#: neighbour lists are first built for this multiple of the predicted support
-SEARCH_SLACK = 1.15
+#: neighbour lists are built for this multiple of the predicted support; the
+#: margin lets the support grow in the density solve and, as a Verlet skin,
+#: the particles move for a few steps before the next search
+SEARCH_SLACK = 1.3
+#: the growth of a support the inflow buffer's depth and the outflow margin allow for
+SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
 RESORT_STEPS = 10
 #: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
@@ -107,6 +112,24 @@ class Evaluation:
         return Evaluation(*(getattr(self, f.name)[order] for f in dataclasses.fields(self)))
 
 
+@dataclass
+class NeighbourLists:
+    """CSR neighbour lists of the ``n`` fluid particles, the imposed ones
+    after them and their mirror ghosts (``src``: each ghost's source,
+    ``sides``: the mask of the sides it is mirrored across), with the
+    positions ``x`` and velocities ``v`` of all of them and the radius each
+    particle's list is complete for."""
+
+    n: int
+    x: np.ndarray
+    v: np.ndarray
+    src: np.ndarray
+    sides: np.ndarray
+    radius: np.ndarray
+    offsets: np.ndarray
+    index: np.ndarray
+
+
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
 
@@ -117,6 +140,8 @@ class GasSPH:
         #: summed (ordered pairs i fluid, r_ij < max(H_i, H_j)), over the run
         self.seconds = dict.fromkeys(("search", "density", "forces"), 0.0)
         self.force_interactions = 0
+        #: neighbour searches made, and the lists of the last one (reused while they hold every pair)
+        self.searches, self.lists = 0, None
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -154,25 +179,24 @@ class GasSPH:
         x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
         H_real = np.concatenate([P.H, bH])
         m_real = np.concatenate([P.m, bm])
+        lists = self._reusable_lists(x_real, v_real, H_real, n)
         slack = SEARCH_SLACK
-        for _ in range(4):
-            # lists for ``slack`` times the guessed support; widen them if a solution reaches their edge
-            gx, gv, src = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max(), self.open)
-            X, V = np.concatenate([x_real, gx]), np.concatenate([v_real, gv])
+        for _ in range(5):
+            if lists is None:
+                lists = self._search(x_real, v_real, H_real, n, slack)
+                slack *= 1.4  # for the next search, if a solution reaches the edge of these lists
+            src, offsets, index = lists.src, lists.offsets, lists.index
             m = np.concatenate([m_real, m_real[src]])
-            guess = np.concatenate([H_real, H_real[src]])
+            X3 = padded(lists.x)
             t0 = _time.perf_counter()
-            offsets, index = neighbour_lists(X, slack * guess, self.lo, self.hi, self.periodic)
-            X3 = padded(X)
-            t1 = _time.perf_counter()
-            rho, H, omega, converged = density_and_support(X3, self.box, self.half, m, guess, slack * guess,
+            rho, H, omega, converged = density_and_support(X3, self.box, self.half, m,
+                                                           np.concatenate([H_real, H_real[src]]), lists.radius,
                                                            offsets, index, self.kind, dim, self.eta, n)
-            self.seconds["search"] += t1 - t0
-            self.seconds["density"] += _time.perf_counter() - t1
-            failed = ~converged | (H >= (1.0 - 1e-6) * slack * guess[:n])
+            self.seconds["density"] += _time.perf_counter() - t0
+            failed = ~converged | (H >= (1.0 - 1e-6) * lists.radius[:n])
             if not failed.any():
                 break
-            slack *= 1.4
+            lists = None
         else:
             k = int(np.flatnonzero(failed)[0])
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
@@ -182,7 +206,7 @@ class GasSPH:
         rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
         c = np.sqrt(gamma * p / rho_all)
-        V3 = padded(V)
+        V3 = padded(lists.v)
         t0 = _time.perf_counter()
         *derived, interactions = rates(X3, self.box, self.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
                                        alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
@@ -191,6 +215,44 @@ class GasSPH:
         self.seconds["forces"] += _time.perf_counter() - t0
         self.force_interactions += int(interactions)
         return E
+
+    def _search(self, x_real, v_real, H_real, n, slack) -> "NeighbourLists":
+        """Mirror ghosts and neighbour lists of the real particles (fluid then
+        imposed) and their ghosts, complete for ``slack`` times the supports
+        ``H_real``; kept for reuse."""
+        t0 = _time.perf_counter()
+        gx, gv, src, sides = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max(), self.open)
+        x = np.concatenate([x_real, gx])
+        radius = slack * np.concatenate([H_real, H_real[src]])
+        offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic)
+        self.lists = NeighbourLists(n, x, np.concatenate([v_real, gv]), src, sides, radius, offsets, index)
+        self.searches += 1
+        self.seconds["search"] += _time.perf_counter() - t0
+        return self.lists
+
+    def _reusable_lists(self, x_real, v_real, H_real, n) -> "NeighbourLists | None":
+        """The last lists at the moved positions, if they still hold every
+        pair that can interact (Verlet 1967): a pair apart by r now was apart
+        by at most r + 2δ when they were built (δ: the largest displacement
+        of any particle since), so particle i's list is still complete for
+        the radius R_i − 2δ (R_i: the radius it was built for). Usable when
+        the particle count is the same and every support is below that
+        radius (the density solve then keeps each H below it too). Positions
+        are compared index by index, so a re-sort or a jump of the inflow
+        buffer shows as a large displacement and forces a new search."""
+        lists = self.lists
+        if lists is None or lists.n != n or lists.x.shape[0] != x_real.shape[0] + lists.src.size:
+            return None
+        t0 = _time.perf_counter()
+        gx, gv = mirror_images(self.scene, x_real, v_real, lists.src, lists.sides, self.open)
+        x = np.concatenate([x_real, gx])
+        moved = x - lists.x
+        for a in np.flatnonzero(self.periodic):
+            moved[:, a] -= self.box[a] * np.round(moved[:, a] / self.box[a])
+        radius = lists.radius - 2.0 * np.sqrt(np.max(np.einsum("ij,ij->i", moved, moved)))
+        usable = np.all(np.concatenate([H_real, H_real[lists.src]]) < radius)
+        self.seconds["search"] += _time.perf_counter() - t0
+        return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
         """Shepard interpolation of particle ``values`` (k, n) on the uniform
@@ -232,7 +294,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
-    reach = outflow_reach(scene, dx, t_end, 4.0 * SEARCH_SLACK * eta * dx)
+    reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
     P = _initial_particles(scene, dx, eta, alpha_min, box)
     inflow = _inflow_buffer(scene, P, eta)
@@ -247,7 +309,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     sample_points = _sample_points(scene)
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
-    sph.seconds, sph.force_interactions = dict.fromkeys(sph.seconds, 0.0), 0  # the pass timings exclude compilation
+    # the pass timings and counts exclude compilation
+    sph.seconds, sph.force_interactions, sph.searches = dict.fromkeys(sph.seconds, 0.0), 0, 0
     P.H, P.rho = E.H, E.rho
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
@@ -388,7 +451,7 @@ def _inflow_buffer(scene, P: Particles, eta: float):
     if not sides:
         return None
     rho_in = scene.boundaries[sides[0]].state(0.0)[0]
-    depth = SEARCH_SLACK * max(P.H.max(), eta * (P.m[0] / rho_in) ** (1.0 / scene.dim)) * 1.5
+    depth = SUPPORT_GROWTH * max(P.H.max(), eta * (P.m[0] / rho_in) ** (1.0 / scene.dim)) * 1.5
     return InflowBuffer(scene, sides[0], P.m[0], depth)
 
 
@@ -454,6 +517,7 @@ class _Run(RunRecord):
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
+                 "neighbour_searches": self.sph.searches,
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.seconds.items()}}
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
