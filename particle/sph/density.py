@@ -86,13 +86,14 @@ def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, et
                 else:
                     lo = max(lo, h)
                 df = drho + dim * target / h
-                h_new = h - f / df if df != 0.0 else 0.5 * (lo + hi)
-                if not (lo < h_new < hi):
-                    h_new = 0.5 * (lo + hi)
+                h_new = h - f / df if df > 0.0 else 0.5 * (lo + hi)
                 if abs(h_new - h) <= TOLERANCE * h:
-                    # h (whose sums these are) solves f = 0 to the tolerance
+                    # h (whose sums these are) solves f = 0 to the tolerance (checked before the
+                    # bracket: at f = 0 exactly, h itself is a bracket end)
                     ok = True
                     break
+                if not (lo < h_new < hi):
+                    h_new = 0.5 * (lo + hi)
                 h = h_new
             H_out[i] = h
             rho_out[i] = rho
