@@ -41,7 +41,8 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["cell_grid", "counting_sort", "neighbour_lists", "neighbours", "padded", "periods", "separation", "separations", "sort_order"]
+__all__ = ["cell_grid", "counting_sort", "neighbour_lists", "neighbours", "padded", "periods", "renumbered", "separation", "separations",
+           "sort_order"]
 
 # Cells are made this much wider than max H / reach, so that a particle put
 # one cell off by round-off still finds every neighbour.
@@ -173,16 +174,17 @@ def _nearest(d, box, half):
 
 @numba.njit(cache=True, inline="always")
 def separation(x, i, j, box, half):
-    """``(d0, d1, d2, r)``: ``x_i − x_j`` per axis, the minimum image on
+    """``(d0, d1, d2, r²)``: ``x_i − x_j`` per axis, the minimum image on
     periodic axes (positions within 1.5 periods of each other), and its
-    length. ``x`` is (n, 3), zero beyond the problem's dimension
+    squared length (a pair loop compares r² with the supports before it
+    takes the root). ``x`` is (n, 3), zero beyond the problem's dimension
     (:func:`padded`), so the pair loops carry no branch on the dimension;
     ``box``, ``half`` from :func:`periods`. The one place the particle
     kernels get pair geometry from."""
     d0 = _nearest(x[i, 0] - x[j, 0], box[0], half[0])
     d1 = _nearest(x[i, 1] - x[j, 1], box[1], half[1])
     d2 = _nearest(x[i, 2] - x[j, 2], box[2], half[2])
-    return d0, d1, d2, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    return d0, d1, d2, d0 * d0 + d1 * d1 + d2 * d2
 
 
 @numba.njit(cache=True, inline="always")
@@ -354,6 +356,22 @@ def _sort_rows(rows, offsets, index):
     for t in prange(rows.size):
         a, b = offsets[rows[t]], offsets[rows[t] + 1]
         index[a:b] = np.sort(index[a:b])
+
+
+@numba.njit(cache=True, parallel=True)
+def _renumbered(offsets, index, order, new_id):
+    n = order.size
+    new_offsets = np.empty(n + 1, dtype=np.int64)
+    new_offsets[0] = 0
+    for r in range(n):
+        new_offsets[r + 1] = new_offsets[r] + offsets[order[r] + 1] - offsets[order[r]]
+    new_index = np.empty_like(index)
+    for r in prange(n):
+        a = offsets[order[r]]
+        b = new_offsets[r]
+        for q in range(new_offsets[r + 1] - b):
+            new_index[b + q] = new_id[index[a + q]]
+    return new_offsets, new_index
 
 
 @numba.njit(cache=True, parallel=True)
@@ -566,6 +584,21 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
         if sort_lists:
             _sort_rows(np.flatnonzero(extra), offsets, index)
     return offsets, index
+
+
+def renumbered(offsets, index, order):
+    """CSR lists ``(offsets, index)`` after the particles are put in the
+    order ``order`` (particle k of the new order was ``order[k]``, a
+    permutation of all of them): the same pairs, with the new ids and the
+    rows in the new order. O(pairs), no distance computed."""
+    order = np.asarray(order, dtype=np.int64)
+    n = offsets.size - 1
+    if order.shape != (n,) or order.min(initial=0) < 0 or order.max(initial=0) >= n or \
+            not np.all(np.bincount(order, minlength=n) == 1):
+        raise InputError(f"order must be a permutation of the {n} particles of the lists.")
+    new_id = np.empty(n, dtype=np.int64)
+    new_id[order] = np.arange(n)
+    return _renumbered(np.asarray(offsets, np.int64), np.asarray(index, np.int64), order, new_id)
 
 
 def periods(lo, hi, periodic, dim):

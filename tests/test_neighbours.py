@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from compare.checks import InputError
-from particle.neighbours import neighbours, sort_order
+from particle.neighbours import neighbour_lists, neighbours, renumbered, sort_order
 
 
 def brute(x, H, lo, hi, periodic):
@@ -256,3 +256,20 @@ def test_bad_input_is_refused():
         neighbours(x, H, [0, 0], [1, 1], False, reach=0)
     with pytest.raises(InputError, match="cell_size"):
         sort_order(x, [0, 0], [1, 1], 0.0)
+
+
+def test_renumbered_lists_hold_the_same_pairs_under_the_new_ids():
+    rng = np.random.default_rng(11)
+    x = rng.uniform(0.0, 1.0, (400, 2))
+    H = rng.uniform(0.05, 0.1, 400)
+    offsets, index = neighbour_lists(x, H, np.zeros(2), np.ones(2), (True, False))
+    order = rng.permutation(400)
+    new_offsets, new_index = renumbered(offsets, index, order)
+    # the lists of the permuted particles, searched afresh, hold the same sets
+    want_offsets, want_index = neighbour_lists(x[order], H[order], np.zeros(2), np.ones(2), (True, False))
+    for k in range(400):
+        got = np.sort(new_index[new_offsets[k]:new_offsets[k + 1]])
+        want = np.sort(want_index[want_offsets[k]:want_offsets[k + 1]])
+        np.testing.assert_array_equal(got, want)
+    with pytest.raises(InputError, match="permutation"):
+        renumbered(offsets, index, np.zeros(400, dtype=int))

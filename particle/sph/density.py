@@ -13,6 +13,8 @@ bisection fallback, and
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -70,7 +72,7 @@ def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, et
         for i in range(chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK)):
             a, b = offsets[i], offsets[i + 1]
             for k in range(a, b):
-                scratch[k - a] = separation(x, i, index[k], box, half)[3]
+                scratch[k - a] = math.sqrt(separation(x, i, index[k], box, half)[3])
             r, neighbour = scratch[: b - a], index[a:b]
             h = H[i]
             # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]

@@ -51,12 +51,14 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     and the conduction signal speed) and two divisions (1/r and 1/ρ̄)."""
     N = x.shape[0]
     inv_H = np.empty(N)
+    H2 = np.empty(N)
     grad_scale = np.empty(N)
     p_term = np.empty(N)
     volume = np.empty(N)
     sigma = SIGMA[kind, dim]
     for j in numba.prange(N):
         inv_H[j] = 1.0 / H[j]
+        H2[j] = H[j] * H[j]
         grad_scale[j] = sigma * inv_H[j] ** (dim + 1)
         p_term[j] = p[j] / (omega[j] * rho[j] * rho[j])
         volume[j] = m[j] / rho[j]
@@ -80,11 +82,12 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
                 j = index[k]
                 if j < i:
                     continue  # evaluated in row j
-                d0, d1, d2, rij = separation(x, i, j, box, half)
+                d0, d1, d2, r2 = separation(x, i, j, box, half)
+                if r2 >= max(H2[i], H2[j]) or r2 <= 0.0:
+                    continue  # beyond both supports (the lists hold a margin)
+                rij = math.sqrt(r2)
                 qi = rij * inv_H[i]
                 qj = rij * inv_H[j]
-                if (qi >= 1.0 and qj >= 1.0) or rij <= 0.0:
-                    continue
                 Fi = grad_scale[i] * shape_derivative(kind, qi) if qi < 1.0 else 0.0
                 Fj = grad_scale[j] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
                 inv_r = 1.0 / rij

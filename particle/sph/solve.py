@@ -29,7 +29,7 @@ from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.io import write_particles
 from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods, sort_order
+from particle.neighbours import neighbour_lists, padded, periods, renumbered, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
@@ -129,6 +129,16 @@ class NeighbourLists:
     offsets: np.ndarray
     index: np.ndarray
 
+    def take(self, order) -> "NeighbourLists":
+        """The same lists with the fluid particles in the order ``order``
+        (the imposed particles and the ghosts keep their places)."""
+        full = np.concatenate([order, np.arange(self.n, self.x.shape[0])])
+        new_id = np.empty_like(full)
+        new_id[full] = np.arange(full.size)
+        offsets, index = renumbered(self.offsets, self.index, full)
+        return NeighbourLists(self.n, self.x[full], self.v[full], new_id[self.src], self.sides, self.radius[full],
+                              offsets, index)
+
 
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
@@ -215,6 +225,12 @@ class GasSPH:
         self.seconds["forces"] += _time.perf_counter() - t0
         self.force_interactions += int(interactions)
         return E
+
+    def renumber(self, order):
+        """Follow the fluid particles into the order ``order`` (the kept
+        neighbour lists with them: a re-sort costs no search)."""
+        if self.lists is not None and self.lists.n == order.size:
+            self.lists = self.lists.take(order)
 
     def _search(self, x_real, v_real, H_real, n, slack) -> "NeighbourLists":
         """Mirror ghosts and neighbour lists of the real particles (fluid then
@@ -325,6 +341,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     # neighbours next to each other in memory: particles sorted cell by cell
                     order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
                     P, E = P.take(order), E.take(order)
+                    sph.renumber(order)
                 speed = E.vsig + np.linalg.norm(P.v, axis=1)
                 dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
                 # the step works on a copy: a failed step leaves P and E, the last consistent state
