@@ -1,0 +1,124 @@
+"""The DSMC equilibrium redraw (particle.dsmc.equilibrate): exact
+conservation of each cell's momentum and energy, Maxwellian velocities and
+Gamma-distributed internal energies, reproducibility from the seed."""
+
+import numba
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+
+from particle.dsmc.equilibrate import equilibrate
+from particle.dsmc.random import gamma, stream, uniform
+from particle.neighbours import counting_sort
+
+
+def _cells(sizes, rng, bulk=1.0, zeta=2.0):
+    """Particles of cells with ``sizes`` particles each, shuffled in memory:
+    far-from-equilibrium velocities (uniform in a box around each cell's bulk
+    velocity) and internal energies."""
+    cell = np.repeat(np.arange(len(sizes)), sizes)
+    rng.shuffle(cell)
+    n = cell.size
+    U = rng.normal(0.0, bulk, (len(sizes), 3))
+    v = U[cell] + rng.uniform(-1.0, 1.0, (n, 3)) * rng.uniform(0.1, 3.0, len(sizes))[cell, None]
+    e = rng.uniform(0.0, 2.0, n) if zeta > 0 else np.zeros(n)
+    start, order = counting_sort(cell, len(sizes))
+    return v, e, cell, start, order
+
+
+def _moments(v, e, cell, ncell, zeta):
+    """Per cell: particle count, Σ v (3), Σ (½|v|² + e)."""
+    count = np.bincount(cell, minlength=ncell)
+    momentum = np.stack([np.bincount(cell, v[:, a], minlength=ncell) for a in range(3)], axis=1)
+    energy = np.bincount(cell, 0.5 * (v * v).sum(axis=1) + (e if zeta > 0 else 0.0), minlength=ncell)
+    return count, momentum, energy
+
+
+@settings(max_examples=60, deadline=None)
+@given(sizes=st.lists(st.integers(1, 60), min_size=1, max_size=30), bulk=st.floats(0.0, 1e3),
+       zeta=st.sampled_from([0.0, 2.0, 3.0]), seed=st.integers(0, 2**63 - 1))
+def test_redraw_conserves_each_cells_momentum_and_energy_to_round_off(sizes, bulk, zeta, seed):
+    rng = np.random.default_rng(seed % 2**32)
+    v, e, cell, start, order = _cells(sizes, rng, bulk, zeta)
+    before = _moments(v, e, cell, len(sizes), zeta)
+    v1, e1 = v.copy(), e.copy()
+    redrawn = equilibrate(v1, e1, start, order, zeta, seed, 7)
+    after = _moments(v1, e1, cell, len(sizes), zeta)
+    assert redrawn == sum(s >= 2 for s in sizes)
+    np.testing.assert_array_equal(after[0], before[0])
+    thermal = np.sqrt(2.0 * before[2] / before[0])  # a velocity scale of each cell
+    scale = np.abs(before[1]).sum(axis=1) + before[0] * thermal
+    assert np.all(np.abs(after[1] - before[1]).max(axis=1) <= 1e-12 * scale)
+    assert np.all(np.abs(after[2] - before[2]) <= 1e-12 * before[2])
+    # a lone particle keeps its state; the others are redrawn
+    lone = np.flatnonzero(np.asarray(sizes)[cell] == 1)
+    np.testing.assert_array_equal(v1[lone], v[lone])
+    crowded = np.flatnonzero(np.asarray(sizes)[cell] >= 2)
+    assert np.all(np.any(v1[crowded] != v[crowded], axis=1))
+
+
+def _standardised(zeta, rng, cells=500, size=200):
+    """Velocities minus the cell's bulk velocity and internal energies, both in
+    units of the cell's θ = 2 E_th / ((3 + ζ) N), before and after the redraw."""
+    v, e, cell, start, order = _cells([size] * cells, rng, 5.0, zeta)
+    out = []
+    for redraw in (False, True):
+        if redraw:
+            equilibrate(v, e, start, order, zeta, 123, 1)
+        count, momentum, energy = _moments(v, e, cell, cells, zeta)
+        U = momentum / count[:, None]
+        theta = 2.0 * (energy - 0.5 * count * (U * U).sum(axis=1)) / ((3.0 + zeta) * count)
+        out.append(((v - U[cell]) / np.sqrt(theta[cell, None]), e / theta[cell]))
+    return out
+
+
+@pytest.mark.parametrize("zeta", [0.0, 2.0])
+def test_redrawn_velocities_are_maxwellian_and_internal_energies_gamma(zeta):
+    (c_in, e_in), (c_out, e_out) = _standardised(zeta, np.random.default_rng(1))
+    # the test has the power to see a non-Maxwellian state (the input)
+    assert stats.kstest(c_in[:, 0], "norm").pvalue < 1e-6
+    for a in range(3):
+        assert stats.kstest(c_out[:, a], "norm").pvalue > 1e-3
+    if zeta > 0:
+        assert stats.kstest(e_in, stats.gamma(0.5 * zeta).cdf).pvalue < 1e-6
+        assert stats.kstest(e_out, stats.gamma(0.5 * zeta).cdf).pvalue > 1e-3
+        # equipartition: internal energy per particle ζ/2 θ, translational 3/2 θ
+        assert e_out.mean() == pytest.approx(0.5 * zeta, rel=0.01)
+    assert (0.5 * (c_out**2).sum(axis=1)).mean() == pytest.approx(1.5, rel=0.01)
+
+
+def test_redraw_depends_on_seed_and_step_only():
+    rng = np.random.default_rng(2)
+    v, e, cell, start, order = _cells([50] * 64, rng)
+    results = []
+    for threads, seed, step in ((1, 5, 3), (numba.config.NUMBA_NUM_THREADS, 5, 3), (1, 6, 3), (1, 5, 4)):
+        numba.set_num_threads(threads)
+        v1, e1 = v.copy(), e.copy()
+        equilibrate(v1, e1, start, order, 2.0, seed, step)
+        results.append((v1, e1))
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    np.testing.assert_array_equal(results[0][0], results[1][0])  # bit-identical at any thread count
+    np.testing.assert_array_equal(results[0][1], results[1][1])
+    assert not np.any(results[0][0] == results[2][0])  # another seed, another draw
+    assert not np.any(results[0][0] == results[3][0])  # another step, another draw
+
+
+@numba.njit(cache=True)
+def _uniforms_and_gammas(seed, n, shape):
+    state = stream(seed, 0, 0)
+    u = np.empty(n)
+    g = np.empty(n)
+    for k in range(n):
+        state, u[k] = uniform(state)
+        state, g[k] = gamma(state, shape)
+    return u, g
+
+
+@pytest.mark.parametrize("shape", [0.4, 1.0, 1.5, 4.0])
+def test_streams_draw_uniform_and_gamma_variates(shape):
+    u, g = _uniforms_and_gammas(99, 50_000, shape)
+    assert np.all((u > 0.0) & (u < 1.0))
+    assert stats.kstest(u, "uniform").pvalue > 1e-3
+    assert stats.kstest(g, stats.gamma(shape).cdf).pvalue > 1e-3
