@@ -1,0 +1,251 @@
+"""Equilibrium DSMC (method ``dsmc``): run a scene, return a schema Dataset
+on the scene's output grid (Pullin 1980, J. Comput. Phys. 34, 231; SPEC §3.3).
+
+Each step: the particles fly freely for Δt (specular reflection at
+reflecting sides, wrap on periodic axes, removal through open sides);
+reservoirs of equilibrium gas outside every open side — the imposed state at
+an inflow, the state of the adjacent cells at an outflow — put in the
+particles that fly in over the step; the particles are sorted into cells of
+size ``dx`` and every cell with two or more is redrawn from its local
+equilibrium, conserving its momentum and energy exactly
+(:mod:`particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
+cells, C = ``cfl``.
+
+Particles stand for equal masses: ``ppc`` particles per cell in the
+lowest-density initial state. Output fields are the cumulative moments of the
+last ``window`` steps before each output time. This first version handles
+scenes without obstacles.
+"""
+
+from __future__ import annotations
+
+import time as _time
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from cases.checks import in_range, integer, positive
+from cases.errors import InputError, Unsupported
+from cases.history import History, RunRecord
+from cases.scene import Inflow
+from particle.dsmc.equilibrate import equilibrate
+from particle.dsmc.gas import equilibrium_particles, internal_degrees, particles_in_cells
+from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
+from particle.dsmc.sample import CellSums, cell_index
+from particle.neighbours import counting_sort
+
+SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "t_end", "progress")
+#: an open side's reservoir is deep enough for inward normal speeds up to U_n + RESERVOIR_SIGMAS √θ
+RESERVOIR_SIGMAS = 6.0
+
+
+def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progress=True, **unknown):
+    """Run ``scene`` with equilibrium DSMC on cells of size ``dx``.
+
+    ``ppc`` particles per cell in the lowest-density initial state set the
+    particle mass; ``seed`` makes the run reproducible (bit-identical on the
+    same machine, whatever the thread count); ``window`` is the number of
+    steps whose moments are averaged into each output frame.
+    """
+    if unknown:
+        raise InputError(f"method dsmc has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
+    if scene.obstacles:
+        raise Unsupported(f"scene {scene.name}: dsmc does not model obstacles yet.")
+    settings = {
+        "method": "dsmc", "dx": positive("dx", scene.dx if dx is None else dx),
+        "ppc": integer("ppc", ppc, 1), "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True),
+        "seed": integer("seed", seed, 0), "window": integer("window", window, 1),
+        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
+    }
+    zeta = internal_degrees(scene.gamma)
+    gas = _Gas(scene, settings["dx"], settings["ppc"], zeta, settings["seed"])
+    run = _Run(scene, gas, settings)
+    t_end, cfl, window = settings["t_end"], settings["cfl"], settings["window"]
+    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+    t = 0.0
+    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"dsmc {scene.name}", leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
+    try:
+        for t_out in out_times:
+            frame = _output_sums(scene)
+            while t < t_out * (1 - 1e-14):
+                dt = min(cfl * gas.dx / gas.signal_speed(), t_out - t)
+                run.record(t, t + dt, gas.step(t, dt, run.n_steps))
+                t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                run.n_steps += 1
+                bar.update(dt)
+                if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
+                    frame.add(gas.x, gas.v, gas.e)
+            if frame.samples == 0:  # an output time with no step before it (t = 0)
+                frame.add(gas.x, gas.v, gas.e)
+            run.add_frame(run.fields(frame), t)
+    except KeyboardInterrupt:
+        raise run.failure(f"dsmc run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
+                          lambda: run.fields(gas.snapshot())) from None
+    finally:
+        bar.close()
+    return run.dataset()
+
+
+class _Gas:
+    """The particles of one run and the step that advances them."""
+
+    def __init__(self, scene, dx, ppc, zeta, seed):
+        self.scene, self.zeta, self.seed = scene, zeta, seed
+        self.rng = np.random.default_rng(seed)
+        dim = scene.dim
+        self.lo = np.array([lo for lo, _ in scene.domain])
+        self.hi = np.array([hi for _, hi in scene.domain])
+        self.shape = tuple(max(1, int(round((hi - lo) / dx))) for lo, hi in scene.domain)
+        self.spacing = (self.hi - self.lo) / np.array(self.shape)
+        self.dx = float(self.spacing.min())
+        self.sides = np.array([_side_kind(scene.boundaries[s]) for s in scene.sides], dtype=np.int64)
+        centres = [self.lo[a] + (np.arange(self.shape[a]) + 0.5) * self.spacing[a] for a in range(dim)]
+        grid = np.meshgrid(*centres, indexing="xy") if dim == 2 else centres
+        rho, u, v, p = (np.broadcast_to(np.asarray(q, float), grid[0].shape)
+                        for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
+        v = v if dim == 2 else np.zeros_like(u)
+        self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
+        self.x, self.v, self.e = particles_in_cells(self.rng, self.lo, self.spacing, self.shape, rho, u, v, p,
+                                                    self.mass, zeta)
+        self.cells = CellSums(self.lo, self.spacing, self.shape)
+        self.cells.add(self.x, self.v, self.e)
+        self.initial_state = self.cells.state(self.mass, scene.gamma)
+
+    def signal_speed(self) -> float:
+        """max |U| + 3 √θ over the cells of the last sort (θ = p/ρ)."""
+        rho, u, v, p, _ = self.cells.state(self.mass, self.scene.gamma)
+        filled = self.cells.s0 > 0
+        speed = np.hypot(u, v).reshape(-1)[filled] + 3.0 * np.sqrt(p / rho).reshape(-1)[filled]
+        return float(speed.max())
+
+    def step(self, t, dt, n) -> np.ndarray:
+        """Advance the gas by ``dt`` from ``t`` (step number ``n``); returns
+        the force on every side over the step (per metre depth in 2D, per
+        square metre in 1D)."""
+        entering = [self._reservoir(side, t + dt, dt) for side in range(len(self.sides)) if self.sides[side] == OPEN]
+        if entering:
+            self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
+                                      for k, a in enumerate((self.x, self.v, self.e)))
+        gone, delivered = free_flight(self.x, self.v, dt, self.lo, self.hi, self.sides)
+        if gone.any():
+            keep = ~gone
+            self.x, self.v, self.e = self.x[keep], self.v[keep], self.e[keep]
+        cell = cell_index(self.x, self.lo, self.spacing, self.shape)
+        start, order = counting_sort(cell, self.cells.ncell)
+        equilibrate(self.v, self.e, start, order, self.zeta, self.seed, n)
+        self.cells.reset()
+        self.cells.add(self.x, self.v, self.e)
+        return self._side_forces(delivered, dt)
+
+    def snapshot(self) -> CellSums:
+        """The moments of the current particles on the output grid."""
+        frame = _output_sums(self.scene)
+        frame.add(self.x, self.v, self.e)
+        return frame
+
+    def _reservoir(self, side, t, dt):
+        """Equilibrium particles in a slab outside the open ``side``, deep
+        enough to hold every particle that can fly in over ``dt``: at the
+        inflow's imposed state, or at an outflow at the state of the
+        adjacent cells (zero gradient)."""
+        axis, upper = side // 2, side % 2 == 1
+        rho, u, v, p = self._outside_state(side, t)
+        normal_in = -(u, v)[axis] if upper else (u, v)[axis]
+        depth = dt * (normal_in + RESERVOIR_SIGMAS * np.sqrt(p / rho))
+        if depth <= 0.0:
+            return np.zeros((0, self.scene.dim)), np.zeros((0, 3)), np.zeros(0)
+        span = self.hi - self.lo
+        area = float(np.prod(np.delete(span, axis)))
+        n = int(np.floor(rho * depth * area / self.mass + self.rng.uniform()))
+        x = self.lo + self.rng.uniform(0.0, 1.0, (n, self.scene.dim)) * span
+        x[:, axis] = (self.hi[axis] + self.rng.uniform(0.0, depth, n)) if upper else \
+            (self.lo[axis] - self.rng.uniform(0.0, depth, n))
+        vel, e = equilibrium_particles(self.rng, n, rho, u, v, p, self.zeta)
+        return x, vel, e
+
+    def _outside_state(self, side, t):
+        """(rho, u, v, p) of the gas beyond an open side."""
+        boundary = self.scene.boundaries[self.scene.sides[side]]
+        if isinstance(boundary, Inflow):
+            return tuple(float(q) for q in boundary.state(t))
+        state = self.cells.state(self.mass, self.scene.gamma)
+        layer = _boundary_layer(side, self.scene.dim)
+        s0 = self.cells.s0.reshape(state[0].shape)[layer]
+        if s0.sum() == 0:
+            state, s0 = self.initial_state, np.ones_like(s0)
+        weights = s0 / s0.sum()
+        return tuple(float(np.nansum(q[layer] * weights)) for q in state[:4])
+
+    def _side_forces(self, delivered, dt) -> np.ndarray:
+        """Per side: the momentum the particles handed to a reflecting side
+        over the step, over dt; elsewhere the pressure of the adjacent cells
+        times the side's length (2D)."""
+        dim = self.scene.dim
+        forces = delivered * self.mass / dt
+        _, _, _, p, _ = self.cells.state(self.mass, self.scene.gamma)
+        for side in range(2 * dim):
+            if self.sides[side] != REFLECT:
+                length = float(self.hi[1 - side // 2] - self.lo[1 - side // 2]) if dim == 2 else 1.0
+                forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * length
+        return forces
+
+
+def _output_sums(scene) -> CellSums:
+    """Empty moment sums on the scene's output grid."""
+    out = scene.output
+    return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape)
+
+
+def _boundary_layer(side, dim):
+    """Index of the cells next to ``side`` in a (ny, nx) or (nx,) array."""
+    axis, upper = side // 2, side % 2 == 1
+    if dim == 1:
+        return -1 if upper else 0
+    return (slice(None), -1 if upper else 0) if axis == 0 else (-1 if upper else 0, slice(None))
+
+
+def _side_kind(boundary) -> int:
+    if boundary == "reflect":
+        return REFLECT
+    if boundary == "periodic":
+        return PERIODIC
+    return OPEN
+
+
+class _Run(RunRecord):
+    """The record of one DSMC run."""
+
+    def __init__(self, scene, gas, settings):
+        probes0 = self._probes(scene, gas.cells.state(gas.mass, scene.gamma), gas)
+        super().__init__(scene, "dsmc", settings, 0.0, History(probes0, 2 * scene.dim))
+        self.gas = gas
+
+    @staticmethod
+    def _probes(scene, state, gas):
+        """Pressure at every probe: that of the DSMC cell holding it."""
+        if not scene.probes:
+            return np.zeros(0)
+        points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float)
+        cell = cell_index(points, gas.lo, gas.spacing, gas.shape)
+        return state[3].reshape(-1)[cell]
+
+    def record(self, t0, t1, side_forces):
+        state = self.gas.cells.state(self.gas.mass, self.scene.gamma)
+        self.history.record(t0, t1, self._probes(self.scene, state, self.gas), side_forces)
+
+    def fields(self, frame: CellSums) -> dict:
+        rho, u, v, p, e = frame.state(self.gas.mass, self.scene.gamma)
+        values = {"rho": rho, "u": u, "v": v, "p": p, "e": e}
+        return {name: values[name] for name in self.scene.fields}
+
+    def output(self):
+        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        s = self.settings
+        scheme = (f"equilibrium DSMC (Pullin): free flight, specular plane walls, equilibrium reservoirs at open "
+                  f"sides, per-cell equilibrium redraw conserving momentum and energy; {s['ppc']} particles per "
+                  f"cell in the lowest initial density, moments over {s['window']} step(s) per frame")
+        attrs = {"particle_mass": self.gas.mass, "internal_degrees": self.gas.zeta,
+                 "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides and "
+                                  "probes: the adjacent cell's pressure"}
+        return fields, None, scheme, int(self.gas.x.shape[0]), attrs
