@@ -53,7 +53,7 @@ KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: neighbour lists are built for this multiple of the predicted support; the
 #: margin lets the support grow in the density solve and, as a Verlet skin,
 #: the particles move for a few steps before the next search
-SEARCH_SLACK = 1.3
+SEARCH_SLACK = 1.25
 #: the growth of a support the inflow buffer's depth and the outflow margin allow for
 SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
