@@ -8,7 +8,10 @@ same frame), so they are interchangeable (``RIEMANN_SOLVERS``).
 
 from __future__ import annotations
 
+import math
+
 import jax.numpy as jnp
+from jax.scipy.special import erf
 
 from gridref.euler.state import conservative, normal_flux
 
@@ -77,4 +80,35 @@ def rusanov(WL, WR, gamma):
     )
 
 
-RIEMANN_SOLVERS = {"hllc": hllc, "hll": hll, "rusanov": rusanov}
+def half_range_flux(W, gamma, sign):
+    """The flux carried through a face by the molecules of the equilibrium
+    gas ``W`` (normal frame) that cross it in the direction ``sign`` (+1:
+    u_n > 0, −1: u_n < 0): the half-range moments of its Maxwellian (Pullin
+    1980, J. Comput. Phys. 34, 231). With θ = p/ρ, s = u_n/√(2θ),
+    W± = ½(1 ± erf s), D = √(θ/(2π)) e^{−s²}:
+
+        F_ρ = ρ(u_n W± ± D),   F_n = (ρu_n² + p) W± ± ρ u_n D,
+        F_t = u_t F_ρ,         F_E = u_n (E + p) W± ± (E + p/2) D,
+
+    E the total energy per volume (internal degrees of freedom included, as
+    the molecules carry them)."""
+    rho, un, vt, p = W[0], W[1], W[2:-1], W[-1]
+    theta = p / rho
+    s = un / jnp.sqrt(2.0 * theta)
+    share = 0.5 * (1.0 + sign * erf(s))
+    D = sign * jnp.sqrt(theta / (2.0 * math.pi)) * jnp.exp(-s * s)
+    E = conservative(W, gamma)[-1]
+    mass = rho * (un * share + D)
+    return (mass, (rho * un * un + p) * share + rho * un * D, *(c * mass for c in vt),
+            un * (E + p) * share + (E + 0.5 * p) * D)
+
+
+def efm(WL, WR, gamma):
+    """Pullin's Equilibrium Flux Method: the molecules of the left gas moving
+    right plus those of the right gas moving left,
+    ``F = F⁺(W_L) + F⁻(W_R)`` (:func:`half_range_flux`) — the flux of the
+    equilibrium DSMC in its infinite-particle limit (SPEC §3.3)."""
+    return tuple(a + b for a, b in zip(half_range_flux(WL, gamma, 1.0), half_range_flux(WR, gamma, -1.0)))
+
+
+RIEMANN_SOLVERS = {"hllc": hllc, "hll": hll, "rusanov": rusanov, "efm": efm}
