@@ -34,7 +34,15 @@ def superbee(a, b):
     return jnp.where(a * b > 0.0, s * jnp.maximum(jnp.minimum(2.0 * A, B), jnp.minimum(A, 2.0 * B)), 0.0)
 
 
-LIMITERS = {"minmod": minmod, "mc": monotonized_central, "vanleer": van_leer, "superbee": superbee}
+def first_order(a, b):
+    """Zero slope: piecewise-constant states, Godunov's first-order scheme
+    (with ``riemann="efm"``, the deterministic limit of the equilibrium
+    DSMC on the same cells)."""
+    return jnp.zeros_like(a)
+
+
+LIMITERS = {"minmod": minmod, "mc": monotonized_central, "vanleer": van_leer, "superbee": superbee,
+            "first_order": first_order}
 
 
 def limited_slopes(W, axis, limiter):
