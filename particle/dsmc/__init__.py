@@ -4,9 +4,10 @@ redrawn from the local equilibrium in every cell after each step.
 Modules: :mod:`~particle.dsmc.random` (counter-based random streams, one per
 cell and step), :mod:`~particle.dsmc.equilibrate` (the conservative
 equilibrium redraw), :mod:`~particle.dsmc.move` (free flight, specular plane
-walls, periodic wrap, open sides), :mod:`~particle.dsmc.gas` (equilibrium
-particles), :mod:`~particle.dsmc.sample` (cell moments),
-:mod:`~particle.dsmc.solve` (the run). The solver handles scenes without
-obstacles so far; it joins the registered methods (``--method dsmc``) once
-it runs every scene of SPEC §3.3.
+walls, periodic wrap, open sides), :mod:`~particle.dsmc.walls` (specular
+reflection from the obstacles' convex polygons), :mod:`~particle.dsmc.gas`
+(equilibrium particles), :mod:`~particle.dsmc.sample` (cell moments),
+:mod:`~particle.dsmc.solve` (the run). The solver joins the registered
+methods (``--method dsmc``) once it meets the accuracy and speed of its
+issue (ensembles, sod within 1.8e-2 at 400 cells, bench).
 """

@@ -31,11 +31,15 @@ def cell_index(x, lo, spacing, shape):
 
 
 class CellSums:
-    """Running sums S0, S1, S2 per cell of a uniform grid over K samples."""
+    """Running sums S0, S1, S2 per cell of a uniform grid over K samples;
+    ``fraction`` (grid-shaped, (ny, nx) in 2D) is the part of each cell's
+    volume open to the gas (1 without obstacles; 0: a solid cell, NaN state)."""
 
-    def __init__(self, lo, spacing, shape):
+    def __init__(self, lo, spacing, shape, fraction=None):
         self.lo, self.spacing, self.shape = np.asarray(lo, float), np.asarray(spacing, float), tuple(shape)
         self.ncell = int(np.prod(self.shape))
+        volume = float(np.prod(self.spacing))
+        self.volume = volume * (np.ones(self.ncell) if fraction is None else np.asarray(fraction, float).reshape(-1))
         self.reset()
 
     def reset(self):
@@ -56,9 +60,8 @@ class CellSums:
     def state(self, mass, gamma):
         """``(rho, u, v, p, e)`` per cell (NaN velocity and pressure where no
         particle was sampled), each of the grid's shape ((ny, nx) in 2D)."""
-        volume = float(np.prod(self.spacing))
         with np.errstate(invalid="ignore", divide="ignore"):
-            rho = mass * self.s0 / (max(self.samples, 1) * volume)
+            rho = np.where(self.volume > 0.0, mass * self.s0 / (max(self.samples, 1) * self.volume), np.nan)
             U = self.s1 / self.s0[:, None]
             resolved = U[:, : len(self.shape)]
             e = self.s2 / self.s0 - 0.5 * np.einsum("ij,ij->i", resolved, resolved)

@@ -11,10 +11,11 @@ equilibrium, conserving its momentum and energy exactly
 (:mod:`particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
 cells, C = ``cfl``.
 
-Particles stand for equal masses: ``ppc`` particles per cell in the
-lowest-density initial state. Output fields are the cumulative moments of the
-last ``window`` steps before each output time. This first version handles
-scenes without obstacles.
+Obstacles are the scene's shapes as convex polygons, reflecting specularly
+(:mod:`particle.dsmc.walls`); a cell's density counts only the part of it
+open to the gas. Particles stand for equal masses: ``ppc`` particles per
+cell in the lowest-density initial state. Output fields are the cumulative
+moments of the last ``window`` steps before each output time.
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ from particle.dsmc.equilibrate import equilibrate
 from particle.dsmc.gas import equilibrium_particles, internal_degrees, particles_in_cells
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
 from particle.dsmc.sample import CellSums, cell_index
+from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
+                                 push_out_of_obstacles)
 from particle.neighbours import counting_sort
 
 SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "t_end", "progress")
@@ -49,8 +52,8 @@ def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progres
     """
     if unknown:
         raise InputError(f"method dsmc has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
-    if scene.obstacles:
-        raise Unsupported(f"scene {scene.name}: dsmc does not model obstacles yet.")
+    if scene.obstacles and scene.dim != 2:
+        raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
     settings = {
         "method": "dsmc", "dx": positive("dx", scene.dx if dx is None else dx),
         "ppc": integer("ppc", ppc, 1), "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True),
@@ -67,7 +70,7 @@ def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progres
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
     try:
         for t_out in out_times:
-            frame = _output_sums(scene)
+            frame = gas.output_sums()
             while t < t_out * (1 - 1e-14):
                 dt = min(cfl * gas.dx / gas.signal_speed(), t_out - t)
                 run.record(t, t + dt, gas.step(t, dt, run.n_steps))
@@ -108,14 +111,31 @@ class _Gas:
         self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
         self.x, self.v, self.e = particles_in_cells(self.rng, self.lo, self.spacing, self.shape, rho, u, v, p,
                                                     self.mass, zeta)
-        self.cells = CellSums(self.lo, self.spacing, self.shape)
+        self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
+        self.safeguard, self.bounces = 0, 0
+        fraction = None
+        if scene.obstacles:
+            fluid = ~inside_obstacles(self.x, *self.polygons[:3])
+            self.x, self.v, self.e = self.x[fluid], self.v[fluid], self.e[fluid]
+            fraction = fluid_fraction(*self.polygons, self.lo, self.spacing, self.shape)
+        self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
         self.cells.add(self.x, self.v, self.e)
+        self.totals0 = self.totals()
         self.initial_state = self.cells.state(self.mass, scene.gamma)
+
+    def totals(self) -> tuple[float, float]:
+        """Mass and energy (translational and internal) of all particles."""
+        energy = 0.5 * np.einsum("ij,ij->", self.v, self.v) + self.e.sum()
+        return self.mass * self.x.shape[0], self.mass * float(energy)
+
+    def in_solids(self) -> int:
+        """Particles inside an obstacle polygon (the solver keeps this 0)."""
+        return int(inside_obstacles(self.x, *self.polygons[:3]).sum()) if self.scene.obstacles else 0
 
     def signal_speed(self) -> float:
         """max |U| + 3 √θ over the cells of the last sort (θ = p/ρ)."""
         rho, u, v, p, _ = self.cells.state(self.mass, self.scene.gamma)
-        filled = self.cells.s0 > 0
+        filled = (self.cells.s0 > 0) & (self.cells.volume > 0)  # (a sliver of a cut cell may count as solid)
         speed = np.hypot(u, v).reshape(-1)[filled] + 3.0 * np.sqrt(p / rho).reshape(-1)[filled]
         return float(speed.max())
 
@@ -127,7 +147,13 @@ class _Gas:
         if entering:
             self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
                                       for k, a in enumerate((self.x, self.v, self.e)))
-        gone, delivered = free_flight(self.x, self.v, dt, self.lo, self.hi, self.sides)
+        if self.scene.obstacles:
+            # obstacles first, then the domain's sides fold the end points back (a flight of 0 s)
+            self.bounces += fly_past_obstacles(self.x, self.v, dt, *self.polygons)
+            gone, delivered = free_flight(self.x, self.v, 0.0, self.lo, self.hi, self.sides)
+            self.safeguard += push_out_of_obstacles(self.x, self.v, *self.polygons[:3])
+        else:
+            gone, delivered = free_flight(self.x, self.v, dt, self.lo, self.hi, self.sides)
         if gone.any():
             keep = ~gone
             self.x, self.v, self.e = self.x[keep], self.v[keep], self.e[keep]
@@ -140,9 +166,18 @@ class _Gas:
 
     def snapshot(self) -> CellSums:
         """The moments of the current particles on the output grid."""
-        frame = _output_sums(self.scene)
+        frame = self.output_sums()
         frame.add(self.x, self.v, self.e)
         return frame
+
+    def output_sums(self) -> CellSums:
+        """Empty moment sums on the scene's output grid."""
+        out = self.scene.output
+        lo = [lo for lo, _ in out.domain]
+        fraction = None
+        if self.scene.obstacles:
+            fraction = fluid_fraction(*self.polygons, np.asarray(lo), np.asarray(out.spacing), out.shape)
+        return CellSums(lo, out.spacing, out.shape, fraction)
 
     def _reservoir(self, side, t, dt):
         """Equilibrium particles in a slab outside the open ``side``, deep
@@ -162,6 +197,9 @@ class _Gas:
         x[:, axis] = (self.hi[axis] + self.rng.uniform(0.0, depth, n)) if upper else \
             (self.lo[axis] - self.rng.uniform(0.0, depth, n))
         vel, e = equilibrium_particles(self.rng, n, rho, u, v, p, self.zeta)
+        if self.scene.obstacles:  # an obstacle may run out through the side: no gas inside it
+            fluid = ~inside_obstacles(x, *self.polygons[:3])
+            x, vel, e = x[fluid], vel[fluid], e[fluid]
         return x, vel, e
 
     def _outside_state(self, side, t):
@@ -191,12 +229,6 @@ class _Gas:
         return forces
 
 
-def _output_sums(scene) -> CellSums:
-    """Empty moment sums on the scene's output grid."""
-    out = scene.output
-    return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape)
-
-
 def _boundary_layer(side, dim):
     """Index of the cells next to ``side`` in a (ny, nx) or (nx,) array."""
     axis, upper = side // 2, side % 2 == 1
@@ -220,6 +252,10 @@ class _Run(RunRecord):
         probes0 = self._probes(scene, gas.cells.state(gas.mass, scene.gamma), gas)
         super().__init__(scene, "dsmc", settings, 0.0, History(probes0, 2 * scene.dim))
         self.gas = gas
+        self.solid = None
+        if scene.obstacles:
+            X, Y = np.meshgrid(scene.output.x, scene.output.y)
+            self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
     @staticmethod
     def _probes(scene, state, gas):
@@ -237,15 +273,24 @@ class _Run(RunRecord):
     def fields(self, frame: CellSums) -> dict:
         rho, u, v, p, e = frame.state(self.gas.mass, self.scene.gamma)
         values = {"rho": rho, "u": u, "v": v, "p": p, "e": e}
+        if self.solid is not None:
+            for q in values.values():
+                q[self.solid] = np.nan
         return {name: values[name] for name in self.scene.fields}
 
     def output(self):
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
         s = self.settings
-        scheme = (f"equilibrium DSMC (Pullin): free flight, specular plane walls, equilibrium reservoirs at open "
-                  f"sides, per-cell equilibrium redraw conserving momentum and energy; {s['ppc']} particles per "
-                  f"cell in the lowest initial density, moments over {s['window']} step(s) per frame")
+        scheme = ("equilibrium DSMC (Pullin): free flight, specular plane walls and obstacle polygons, equilibrium "
+                  "reservoirs at open sides, per-cell equilibrium redraw conserving momentum and energy; "
+                  f"{s['ppc']} particles per cell in the lowest initial density, moments over {s['window']} "
+                  "step(s) per frame")
         attrs = {"particle_mass": self.gas.mass, "internal_degrees": self.gas.zeta,
+                 "wall_reflections": self.gas.safeguard,  # particles the safeguard put back out of a solid
+                 "particles_in_solids": self.gas.in_solids(), "obstacle_bounces": self.gas.bounces,
                  "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides and "
                                   "probes: the adjacent cell's pressure"}
-        return fields, None, scheme, int(self.gas.x.shape[0]), attrs
+        if all(kind != OPEN for kind in self.gas.sides):
+            (m0, e0), (m1, e1) = self.gas.totals0, self.gas.totals()
+            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
+        return fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs
