@@ -7,6 +7,7 @@ from scipy.integrate import quad
 
 from compare.exact import (
     BLASTS,
+    driver_pressure,
     friedlander,
     max_deflection,
     normal_shock,
@@ -186,3 +187,18 @@ def test_rankine_hugoniot_inflow_is_vectorised_over_a_blast():
 def test_bad_input_raises(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+@pytest.mark.parametrize("Ms", [1.2, 2.0, 3.2])
+def test_driver_pressure_sends_a_shock_of_the_asked_mach(Ms):
+    # the exact Riemann solution of the burst: the shock front moves at Ms·a0
+    rho0, p0, gamma = 1.225, 101325.0, 1.4
+    p4 = driver_pressure(Ms, rho0, p0, gamma)
+    a0 = np.sqrt(gamma * p0 / rho0)
+    lo, hi = 0.0, 10.0 * a0  # bracket the front's speed: moving gas behind it, gas at rest ahead
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        u = sample((rho0, 0.0, p4), (rho0, 0.0, p0), gamma, np.array([mid]))[1][0]
+        lo, hi = (mid, hi) if u > 1e-9 * a0 else (lo, mid)
+    assert lo / a0 == pytest.approx(Ms, rel=1e-9)
+    assert p4 > p0 * (1.0 + 2.0 * gamma / (gamma + 1.0) * (Ms**2 - 1.0))  # it drives, and expands

@@ -15,6 +15,7 @@ from compare.exact.riemann import riemann, sample, star_state
 from compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
 from compare.exact.shocks import (
     BLASTS,
+    driver_pressure,
     friedlander,
     max_deflection,
     normal_shock,
@@ -26,6 +27,7 @@ from compare.exact.shocks import (
 
 __all__ = [
     "BLASTS",
+    "driver_pressure",
     "friedlander",
     "max_deflection",
     "noh",

@@ -13,8 +13,10 @@ ch. 3 (Rankine-Hugoniot conditions); G. F. Kinney & K. J. Graham, *Explosive Sho
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import brentq
 
 from compare.exact._inputs import positive, ratio_of_heats
+from compare.exact.riemann import star_state
 
 #: The inflow blasts of the blast-array scenes (SPEC §4.2): peak overpressure
 #: over p0, positive-phase duration t_plus [s] and Friedlander decay alpha.
@@ -90,6 +92,23 @@ def reflected_shock(Ms, rho0, p0, gamma: float = 1.4) -> dict:
         "reflected_shock_speed": Mr * a1 - u1,
         "Mr": Mr,
     }
+
+
+def driver_pressure(Ms, rho0, p0, gamma: float = 1.4) -> float:
+    """Pressure of a driver gas at rest, of the same density ``rho0`` (so
+    hotter), whose release into gas at rest at (``rho0``, ``p0``) sends a
+    shock of Mach ``Ms``: the shock-tube problem (Anderson, Modern
+    Compressible Flow, ch. 7) solved as the root p4 of
+    p*(p4) = p0 (1 + 2γ/(γ+1)(Ms² − 1)), p* the star pressure of the exact
+    Riemann problem (ρ0, 0, p4 | ρ0, 0, p0) (:func:`star_state`)."""
+    gamma = ratio_of_heats(gamma)
+    Ms = float(_mach("Ms", Ms))
+    rho0, p0 = positive("rho0", rho0), positive("p0", p0)
+    target = p0 * (1.0 + 2.0 * gamma / (gamma + 1.0) * (Ms * Ms - 1.0))
+    if Ms == 1.0:
+        return p0
+    return brentq(lambda p4: star_state((rho0, 0.0, p4), (rho0, 0.0, p0), gamma)[0] - target, target, 1e9 * p0,
+                  xtol=1e-14 * target, rtol=1e-14)
 
 
 def reflection_coefficient(Ms, gamma: float = 1.4):
