@@ -118,6 +118,9 @@ class _Gas:
             fluid = ~inside_obstacles(self.x, *self.polygons[:3])
             self.x, self.v, self.e = self.x[fluid], self.v[fluid], self.e[fluid]
             fraction = fluid_fraction(*self.polygons, self.lo, self.spacing, self.shape)
+        out = scene.output
+        self.output_fraction = None if not scene.obstacles else fluid_fraction(
+            *self.polygons, np.array([lo for lo, _ in out.domain]), np.asarray(out.spacing), out.shape)
         self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
         self.cells.add(self.x, self.v, self.e)
         self.totals0 = self.totals()
@@ -173,11 +176,7 @@ class _Gas:
     def output_sums(self) -> CellSums:
         """Empty moment sums on the scene's output grid."""
         out = self.scene.output
-        lo = [lo for lo, _ in out.domain]
-        fraction = None
-        if self.scene.obstacles:
-            fraction = fluid_fraction(*self.polygons, np.asarray(lo), np.asarray(out.spacing), out.shape)
-        return CellSums(lo, out.spacing, out.shape, fraction)
+        return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape, self.output_fraction)
 
     def _reservoir(self, side, t, dt):
         """Equilibrium particles in a slab outside the open ``side``, deep
