@@ -36,11 +36,13 @@ def cmd_cases(args) -> int:
 
 
 def cmd_run(args) -> int:
-    from cases.registry import get
+    from cases.registry import defaults, get
     from cases.run import run
     from compare.io import write
 
-    scene = get(args.case, **_settings(args.set))
+    pairs = _settings(args.set)
+    scene_keys = set(defaults(args.case))
+    scene = get(args.case, **{k: v for k, v in pairs.items() if k in scene_keys})
     settings = {"progress": not args.quiet}
     if args.dx is not None:
         settings["dx"] = args.dx
@@ -48,9 +50,12 @@ def cmd_run(args) -> int:
         settings["t_end"] = args.t_end
     if args.cfl is not None:
         settings["cfl"] = args.cfl
+    if args.ensembles != 1:
+        settings.update(ensembles=args.ensembles, scheduler=args.scheduler)
     if args.particles:
         settings["particles"] = str(Path(args.output).with_suffix("")) + "_particles.nc"
     settings.update(_settings(args.option))
+    settings.update({k: v for k, v in pairs.items() if k not in scene_keys})  # --set of a solver setting (ppc)
     try:
         ds = run(scene, args.method, **settings)
     except SolverFailed as failure:
@@ -98,12 +103,16 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("case")
     r.add_argument("--method", "-m", required=True)
     r.add_argument("--dx", type=float, help="cell size (fv, dsmc) or initial particle spacing (sph) [m]")
-    r.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene parameter (repeatable)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="scene parameter, or a setting of the method such as ppc (repeatable)")
     r.add_argument("--option", action="append", metavar="KEY=VALUE",
                    help="solver setting, e.g. limiter=minmod, riemann=hll (repeatable)")
     r.add_argument("--t-end", type=float, dest="t_end")
     r.add_argument("--cfl", type=float)
     r.add_argument("--seed", type=int, help="random seed (particle methods)")
+    r.add_argument("--ensembles", type=int, default=1,
+                   help="average this many runs with seeds SEED, SEED+1, ... (stochastic methods), on Dask")
+    r.add_argument("--scheduler", help="Dask scheduler address for --ensembles (default: a LocalCluster)")
     r.add_argument("-o", "--output", required=True)
     r.add_argument("--particles", action="store_true",
                    help="also write the last particle state beside the output, as <output>_particles.nc (sph)")

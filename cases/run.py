@@ -28,19 +28,29 @@ def solver(method: str):
     return available[method].load()
 
 
-def run(scene, method: str, **settings):
+def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, workers: int | None = None,
+        **settings):
     """Run ``scene`` (a Scene or a case name) with ``method`` and return the
     schema Dataset, with the scene's measured quantities in its attributes.
 
     ``settings`` go to the solver (``dx``, ``cfl``, ``t_end``, ``progress``, and
-    method-specific ones). A run that fails raises
+    method-specific ones). ``ensembles`` > 1 runs that many seeds of a
+    stochastic method on Dask (the scheduler at ``scheduler``, or a
+    LocalCluster of ``workers`` processes) and returns their average
+    (:func:`cases.ensemble.run_ensemble`). A run that fails raises
     :class:`~cases.errors.SolverFailed` carrying the partial result.
     """
     if isinstance(scene, str):
         from cases.registry import get
 
         scene = get(scene)
-    ds = solver(method)(scene, **settings)
+    if ensembles != 1:
+        from cases.ensemble import run_ensemble
+
+        settings.pop("progress", None)  # (workers show none)
+        ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)
+    else:
+        ds = solver(method)(scene, **settings)
     if scene.measure is not None:
         ds.attrs.update(scene.measure(ds))
     return ds

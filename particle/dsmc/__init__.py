@@ -7,7 +7,10 @@ equilibrium redraw), :mod:`~particle.dsmc.move` (free flight, specular plane
 walls, periodic wrap, open sides), :mod:`~particle.dsmc.walls` (specular
 reflection from the obstacles' convex polygons), :mod:`~particle.dsmc.gas`
 (equilibrium particles), :mod:`~particle.dsmc.sample` (cell moments),
-:mod:`~particle.dsmc.solve` (the run). The solver joins the registered
-methods (``--method dsmc``) once it meets the accuracy and speed of its
-issue (ensembles, sod within 1.8e-2 at 400 cells, bench).
+:mod:`~particle.dsmc.cells` (the cell sort), :mod:`~particle.dsmc.solve`
+(the run, method ``dsmc``).
 """
+
+from particle.dsmc.solve import solve
+
+__all__ = ["solve"]

@@ -28,66 +28,66 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from particle.dsmc.random import gamma, normal_pair, stream
+from particle.dsmc.random import gamma, normal, stream
 
 
 @numba.njit(parallel=True, cache=True)
-def equilibrate(v, e, start, order, zeta, seed, step):
+def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
     energies ``e`` (n,) of the particles of every cell with ≥ 2 of them.
 
-    ``start``/``order`` are a cell sort (:func:`particle.neighbours.counting_sort`):
-    cell c holds the particles ``order[start[c]:start[c+1]]``. ``zeta`` ≥ 0
-    internal degrees of freedom (0: ``e`` is left alone). Cell c draws from
-    the stream ``(seed, step, c)``, so the result does not depend on the
-    thread count. Returns the number of cells redrawn."""
+    The particles are in cell order (:func:`particle.dsmc.cells.sort_into_cells`):
+    cell c holds ``start[c]:start[c+1]``. ``zeta`` ≥ 0 internal degrees of
+    freedom (0: ``e`` is left alone). Cell c draws from the stream
+    ``(seed, step, c)``, so the result does not depend on the thread count.
+    Fills, per cell, ``count`` (N), ``momentum`` (Σ v, (ncell, 3)) and
+    ``energy`` (Σ ½|v|² + e): the sums the redraw conserves."""
     ncell = start.size - 1
-    redrawn = np.zeros(ncell, dtype=np.int64)
     for cell in numba.prange(ncell):
         a, b = start[cell], start[cell + 1]
         N = b - a
-        if N < 2:
-            continue
         # the cell's momentum and energy per unit particle mass
         p0 = p1 = p2 = 0.0
-        energy = 0.0
-        for k in range(a, b):
-            i = order[k]
+        total = 0.0
+        for i in range(a, b):
             p0 += v[i, 0]
             p1 += v[i, 1]
             p2 += v[i, 2]
-            energy += 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
+            total += 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
             if zeta > 0.0:
-                energy += e[i]
+                total += e[i]
+        count[cell] = N
+        momentum[cell, 0], momentum[cell, 1], momentum[cell, 2] = p0, p1, p2
+        energy[cell] = total
+        if N < 2:
+            continue
         U0, U1, U2 = p0 / N, p1 / N, p2 / N
-        thermal = energy - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
-        # the draw, in the cell's own scratch: c (3 per particle) and ε
+        thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
+        # the draw c (3 normals per particle) and ε, written in place of v and e
         state = stream(seed, step, cell)
-        c = np.empty((N, 3))
-        eps = np.zeros(N)
-        for k in range(N):
-            state, z0, z1 = normal_pair(state)
-            state, z2, _ = normal_pair(state)
-            c[k, 0], c[k, 1], c[k, 2] = z0, z1, z2
+        m0 = m1 = m2 = 0.0
+        squares = 0.0
+        for i in range(a, b):
+            state, z0 = normal(state)
+            state, z1 = normal(state)
+            state, z2 = normal(state)
+            v[i, 0], v[i, 1], v[i, 2] = z0, z1, z2
+            m0 += z0
+            m1 += z1
+            m2 += z2
+            squares += z0 * z0 + z1 * z1 + z2 * z2
             if zeta > 0.0:
-                state, eps[k] = gamma(state, 0.5 * zeta)
-        m0 = c[:, 0].sum() / N
-        m1 = c[:, 1].sum() / N
-        m2 = c[:, 2].sum() / N
-        drawn = 0.0
-        for k in range(N):
-            c[k, 0] -= m0
-            c[k, 1] -= m1
-            c[k, 2] -= m2
-            drawn += 0.5 * (c[k, 0] * c[k, 0] + c[k, 1] * c[k, 1] + c[k, 2] * c[k, 2]) + eps[k]
+                state, eps = gamma(state, 0.5 * zeta)
+                e[i] = eps
+                squares += 2.0 * eps
+        m0, m1, m2 = m0 / N, m1 / N, m2 / N
+        # ½ Σ |c_i − c̄|² + Σ ε_i
+        drawn = 0.5 * (squares - N * (m0 * m0 + m1 * m1 + m2 * m2))
         s2 = max(thermal, 0.0) / drawn
         s = np.sqrt(s2)
-        for k in range(N):
-            i = order[a + k]
-            v[i, 0] = U0 + s * c[k, 0]
-            v[i, 1] = U1 + s * c[k, 1]
-            v[i, 2] = U2 + s * c[k, 2]
+        for i in range(a, b):
+            v[i, 0] = U0 + s * (v[i, 0] - m0)
+            v[i, 1] = U1 + s * (v[i, 1] - m1)
+            v[i, 2] = U2 + s * (v[i, 2] - m2)
             if zeta > 0.0:
-                e[i] = s2 * eps[k]
-        redrawn[cell] = 1
-    return redrawn.sum()
+                e[i] = s2 * e[i]

@@ -17,11 +17,14 @@ from compare.checks import InputError
 
 
 def internal_degrees(gamma: float) -> float:
-    """ζ = (5 − 3γ)/(γ − 1) for 1 < γ ≤ 5/3."""
+    """ζ = (5 − 3γ)/(γ − 1) for 1 < γ ≤ 5/3 (a whole number when γ is one
+    of a whole number of degrees, to round-off)."""
     if not 1.0 < gamma <= 5.0 / 3.0 + 1e-12:
         raise InputError(f"gamma must be in (1, 5/3] for DSMC (a gas with zeta = (5 - 3 gamma)/(gamma - 1) >= 0 "
                          f"internal degrees of freedom); got {gamma:g}.")
-    return max((5.0 - 3.0 * gamma) / (gamma - 1.0), 0.0)
+    zeta = max((5.0 - 3.0 * gamma) / (gamma - 1.0), 0.0)
+    whole = round(zeta)  # γ = 1.4 gives 2.0000000000000018 in floating point: a diatomic gas's ζ is 2
+    return float(whole) if abs(zeta - whole) < 1e-9 else zeta
 
 
 def equilibrium_particles(rng, n, rho, u, v, p, zeta):

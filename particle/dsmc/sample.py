@@ -17,17 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def cell_index(x, lo, spacing, shape):
-    """Linear cell index (x fastest) of positions ``x`` (n, dim) on the grid,
-    clamped to the grid."""
-    index = np.zeros(x.shape[0], dtype=np.int64)
-    stride = 1
-    for a in range(len(shape)):
-        i = np.clip(np.floor((x[:, a] - lo[a]) / spacing[a]).astype(np.int64), 0, shape[a] - 1)
-        index += i * stride
-        stride *= shape[a]
-    return index
+from particle.dsmc.cells import cell_index
 
 
 class CellSums:
@@ -38,6 +28,7 @@ class CellSums:
     def __init__(self, lo, spacing, shape, fraction=None):
         self.lo, self.spacing, self.shape = np.asarray(lo, float), np.asarray(spacing, float), tuple(shape)
         self.ncell = int(np.prod(self.shape))
+        self.shape_array = np.array(self.shape, dtype=np.int64)
         volume = float(np.prod(self.spacing))
         self.volume = volume * (np.ones(self.ncell) if fraction is None else np.asarray(fraction, float).reshape(-1))
         self.reset()
@@ -50,7 +41,7 @@ class CellSums:
 
     def add(self, x, v, e):
         """Add one sample of the particles ``(x, v, e)``."""
-        cell = cell_index(x, self.lo, self.spacing, self.shape)
+        cell = cell_index(x, self.lo, self.spacing, self.shape_array)
         self.s0 += np.bincount(cell, minlength=self.ncell)
         for a in range(3):
             self.s1[:, a] += np.bincount(cell, v[:, a], minlength=self.ncell)

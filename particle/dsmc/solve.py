@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import time as _time
 
+import numba
 import numpy as np
 from tqdm.auto import tqdm
 
@@ -29,17 +30,20 @@ from cases.checks import in_range, integer, positive
 from cases.errors import InputError, Unsupported
 from cases.history import History, RunRecord
 from cases.scene import Inflow
+from cases.shapes import square
+from particle.dsmc.cells import cell_index, sort_into_cells
 from particle.dsmc.equilibrate import equilibrate
 from particle.dsmc.gas import equilibrium_particles, internal_degrees, particles_in_cells
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.sample import CellSums, cell_index
+from particle.dsmc.sample import CellSums
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
                                  push_out_of_obstacles)
-from particle.neighbours import counting_sort
 
 SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "t_end", "progress")
 #: an open side's reservoir is deep enough for inward normal speeds up to U_n + RESERVOIR_SIGMAS √θ
 RESERVOIR_SIGMAS = 6.0
+#: an obstacle on which the kernels are compiled
+_UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
 
 def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progress=True, **unknown):
@@ -61,8 +65,11 @@ def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progres
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     zeta = internal_degrees(scene.gamma)
+    t0 = _time.perf_counter()
+    _compile_kernels(scene.dim, zeta)
+    compile_seconds = _time.perf_counter() - t0
     gas = _Gas(scene, settings["dx"], settings["ppc"], zeta, settings["seed"])
-    run = _Run(scene, gas, settings)
+    run = _Run(scene, gas, settings, compile_seconds)
     t_end, cfl, window = settings["t_end"], settings["cfl"], settings["window"]
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t = 0.0
@@ -90,6 +97,21 @@ def solve(scene, dx=None, ppc=30, cfl=0.5, seed=0, window=1, t_end=None, progres
     return run.dataset()
 
 
+def _compile_kernels(dim, zeta):
+    """Compile (or load from the cache) the numba kernels of a step, on two
+    particles, so that the run's time excludes it."""
+    x, v, e = np.full((2, dim), 0.5), np.zeros((2, 3)), np.zeros(2)
+    lo, spacing, shape = np.zeros(dim), np.ones(dim), np.ones(dim, dtype=np.int64)
+    free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
+    start = sort_into_cells(x, v, e, lo, spacing, shape, 1, x.copy(), v.copy(), e.copy())
+    equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
+    cell_index(x, lo, spacing, shape)
+    if dim == 2:
+        square = obstacle_polygons([_UNIT_SQUARE], 1.0)
+        fly_past_obstacles(x, v, 0.0, *square)
+        push_out_of_obstacles(x, v, *square[:3])
+
+
 class _Gas:
     """The particles of one run and the step that advances them."""
 
@@ -113,6 +135,7 @@ class _Gas:
                                                     self.mass, zeta)
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
+        self._spare = None  # buffers the next cell sort writes into
         fraction = None
         if scene.obstacles:
             fluid = ~inside_obstacles(self.x, *self.polygons[:3])
@@ -124,7 +147,7 @@ class _Gas:
         self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
         self.cells.add(self.x, self.v, self.e)
         self.totals0 = self.totals()
-        self.initial_state = self.cells.state(self.mass, scene.gamma)
+        self.initial_state = self.state = self.cells.state(self.mass, scene.gamma)
 
     def totals(self) -> tuple[float, float]:
         """Mass and energy (translational and internal) of all particles."""
@@ -137,7 +160,7 @@ class _Gas:
 
     def signal_speed(self) -> float:
         """max |U| + 3 √θ over the cells of the last sort (θ = p/ρ)."""
-        rho, u, v, p, _ = self.cells.state(self.mass, self.scene.gamma)
+        rho, u, v, p, _ = self.state
         filled = (self.cells.s0 > 0) & (self.cells.volume > 0)  # (a sliver of a cut cell may count as solid)
         speed = np.hypot(u, v).reshape(-1)[filled] + 3.0 * np.sqrt(p / rho).reshape(-1)[filled]
         return float(speed.max())
@@ -160,12 +183,27 @@ class _Gas:
         if gone.any():
             keep = ~gone
             self.x, self.v, self.e = self.x[keep], self.v[keep], self.e[keep]
-        cell = cell_index(self.x, self.lo, self.spacing, self.shape)
-        start, order = counting_sort(cell, self.cells.ncell)
-        equilibrate(self.v, self.e, start, order, self.zeta, self.seed, n)
+        start = self._sort()
+        # the redraw conserves each cell's sums: they are the step's sample
         self.cells.reset()
-        self.cells.add(self.x, self.v, self.e)
+        equilibrate(self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1, self.cells.s2)
+        self.cells.samples = 1
+        self.state = self.cells.state(self.mass, self.scene.gamma)
         return self._side_forces(delivered, dt)
+
+    def _sort(self) -> np.ndarray:
+        """Put the particles in cell order (into the spare buffers, which
+        then hold the old order); returns the cell starts."""
+        n = self.x.shape[0]
+        if self._spare is None or self._spare[2].shape[0] < n:
+            capacity = n + n // 4 + 16  # room for the particles an inflow adds
+            self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity))
+        old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e))
+        self.x, self.v, self.e = (buffer[:n] for buffer in self._spare)
+        start = sort_into_cells(*(a[:n] for a in old), self.lo, self.spacing, self.cells.shape_array,
+                                numba.get_num_threads(), self.x, self.v, self.e)
+        self._spare = old
+        return start
 
     def snapshot(self) -> CellSums:
         """The moments of the current particles on the output grid."""
@@ -206,7 +244,7 @@ class _Gas:
         boundary = self.scene.boundaries[self.scene.sides[side]]
         if isinstance(boundary, Inflow):
             return tuple(float(q) for q in boundary.state(t))
-        state = self.cells.state(self.mass, self.scene.gamma)
+        state = self.state
         layer = _boundary_layer(side, self.scene.dim)
         s0 = self.cells.s0.reshape(state[0].shape)[layer]
         if s0.sum() == 0:
@@ -220,12 +258,20 @@ class _Gas:
         times the side's length (2D)."""
         dim = self.scene.dim
         forces = delivered * self.mass / dt
-        _, _, _, p, _ = self.cells.state(self.mass, self.scene.gamma)
+        _, _, _, p, _ = self.state
         for side in range(2 * dim):
             if self.sides[side] != REFLECT:
                 length = float(self.hi[1 - side // 2] - self.lo[1 - side // 2]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * length
         return forces
+
+
+def _buffer_of(a: np.ndarray) -> np.ndarray:
+    """The array ``a`` is the leading part of (itself, or its base)."""
+    b = a.base
+    if isinstance(b, np.ndarray) and b.ndim == a.ndim and b.ctypes.data == a.ctypes.data and b.flags.c_contiguous:
+        return b
+    return a
 
 
 def _boundary_layer(side, dim):
@@ -247,9 +293,9 @@ def _side_kind(boundary) -> int:
 class _Run(RunRecord):
     """The record of one DSMC run."""
 
-    def __init__(self, scene, gas, settings):
-        probes0 = self._probes(scene, gas.cells.state(gas.mass, scene.gamma), gas)
-        super().__init__(scene, "dsmc", settings, 0.0, History(probes0, 2 * scene.dim))
+    def __init__(self, scene, gas, settings, compile_seconds):
+        probes0 = self._probes(scene, gas.state, gas)
+        super().__init__(scene, "dsmc", settings, compile_seconds, History(probes0, 2 * scene.dim))
         self.gas = gas
         self.solid = None
         if scene.obstacles:
@@ -262,12 +308,11 @@ class _Run(RunRecord):
         if not scene.probes:
             return np.zeros(0)
         points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float)
-        cell = cell_index(points, gas.lo, gas.spacing, gas.shape)
+        cell = cell_index(points, gas.lo, gas.spacing, gas.cells.shape_array)
         return state[3].reshape(-1)[cell]
 
     def record(self, t0, t1, side_forces):
-        state = self.gas.cells.state(self.gas.mass, self.scene.gamma)
-        self.history.record(t0, t1, self._probes(self.scene, state, self.gas), side_forces)
+        self.history.record(t0, t1, self._probes(self.scene, self.gas.state, self.gas), side_forces)
 
     def fields(self, frame: CellSums) -> dict:
         rho, u, v, p, e = frame.state(self.gas.mass, self.scene.gamma)

@@ -1,0 +1,52 @@
+"""Ensembles on Dask (cases.ensemble): K seeds of a stochastic method run on
+a LocalCluster and averaged as moments, equal to what averaging the member
+runs' moments by hand gives; deterministic methods refuse."""
+
+import json
+
+import numpy as np
+import pytest
+
+from cases.errors import InputError
+from cases.registry import get
+from cases.run import run
+from compare.metrics import field_error
+
+SCENE = dict(nx_out=50)
+SETTINGS = dict(dx=1 / 50, ppc=20, t_end=0.1)
+
+
+@pytest.fixture(scope="module")
+def ensemble_and_members():
+    scene = get("sod", **SCENE)
+    ensemble = run(scene, "dsmc", ensembles=3, seed=10, workers=2, **SETTINGS)
+    members = [run(scene, "dsmc", seed=s, progress=False, **SETTINGS) for s in (10, 11, 12)]
+    return scene, ensemble, members
+
+
+def test_ensemble_is_the_moment_average_of_its_members(ensemble_and_members):
+    scene, ensemble, members = ensemble_and_members
+    assert ensemble.attrs["ensembles"] == 3 and json.loads(ensemble.attrs["seeds"]) == [10, 11, 12]
+    assert ensemble.attrs["n_elements"] == sum(m.attrs["n_elements"] for m in members)
+    g = scene.gamma
+    rho = np.mean([m["rho"].values for m in members], axis=0)
+    mom = np.mean([(m["rho"] * m["u"]).values for m in members], axis=0)
+    energy = np.mean([(m["p"] / (g - 1) + 0.5 * m["rho"] * m["u"] ** 2).values for m in members], axis=0)
+    u = mom / rho
+    np.testing.assert_allclose(ensemble["rho"].values, rho, rtol=1e-12)
+    np.testing.assert_allclose(ensemble["u"].values, u, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(ensemble["p"].values, (g - 1) * (energy - 0.5 * rho * u**2), rtol=1e-10)
+    # three different draws, not one run three times
+    assert not np.array_equal(members[0]["rho"].values, members[1]["rho"].values)
+
+
+def test_ensemble_scatter_is_smaller_than_a_members(ensemble_and_members):
+    scene, ensemble, members = ensemble_and_members
+    exact = scene.exact(ensemble.time.values)["rho"].isel(time=-1)
+    errors = [field_error(m["rho"].isel(time=-1), exact) for m in members]
+    assert field_error(ensemble["rho"].isel(time=-1), exact) < min(errors)
+
+
+def test_deterministic_method_refuses_ensembles():
+    with pytest.raises(InputError, match="deterministic"):
+        run(get("sod", **SCENE), "fv", ensembles=2, dx=0.02)
