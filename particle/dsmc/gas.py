@@ -11,9 +11,11 @@ variance θ and the specific internal energy is Gamma(ζ/2, θ) distributed
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from compare.checks import InputError
+from particle.dsmc.random import gamma, normal, stream, uniform
 
 
 def internal_degrees(gamma: float) -> float:
@@ -27,36 +29,55 @@ def internal_degrees(gamma: float) -> float:
     return float(whole) if abs(zeta - whole) < 1e-9 else zeta
 
 
-def equilibrium_particles(rng, n, rho, u, v, p, zeta):
-    """Velocities (n, 3) and specific internal energies (n,) of ``n``
-    particles drawn from the equilibrium at density ``rho``, flow velocity
-    ``(u, v, 0)`` and pressure ``p`` (scalars or arrays of length n)."""
-    theta = np.broadcast_to(np.asarray(p, float) / np.asarray(rho, float), (n,))
-    scale = np.sqrt(theta)
-    vel = rng.standard_normal((n, 3)) * scale[:, None]
-    vel[:, 0] += u
-    vel[:, 1] += v
-    e = rng.gamma(0.5 * zeta, 1.0, n) * theta if zeta > 0 else np.zeros(n)
-    return vel, e
+@numba.njit(cache=True, inline="always")
+def _count(state, expected):
+    """``(state, ⌊expected + ξ⌋)``, ξ uniform: an integer with mean ``expected``."""
+    state, xi = uniform(state)
+    return state, int(np.floor(expected + xi))
 
 
-def particles_in_cells(rng, lo, spacing, shape, rho, u, v, p, mass, zeta):
-    """Particles of mass ``mass`` filling the cells of a uniform grid (origin
-    ``lo``, ``spacing`` and ``shape`` per axis) with the cell states ``rho``,
-    ``u``, ``v``, ``p`` (arrays of the grid's shape, x fastest in memory as
-    (ny, nx) in 2D). Each cell gets ⌊ρV/mass + ξ⌋ particles, ξ uniform in
-    [0, 1) (the mean mass is exact), uniformly placed, with equilibrium
-    velocities and internal energies. Returns ``(x, v, e)``."""
-    dim = len(shape)
-    volume = float(np.prod(spacing))
-    expected = (np.asarray(rho, float) * volume / mass).reshape(-1)
-    count = np.floor(expected + rng.uniform(0.0, 1.0, expected.size)).astype(np.int64)
-    cell = np.repeat(np.arange(expected.size), count)
-    n = cell.size
-    index = np.unravel_index(cell, tuple(reversed(shape)))[::-1]  # (ix, iy)
-    x = np.empty((n, dim))
+@numba.njit(parallel=True, cache=True)
+def particles_in_cells(lo, spacing, shape, rho, u, v, p, mass, zeta, seed, step, key0):
+    """``(x, v, e)``: particles of mass ``mass`` filling the cells of a uniform
+    grid (origin ``lo``, ``spacing`` and int64 ``shape`` per axis, dim = 1
+    or 2) with the states ``rho``, ``u``, ``v``, ``p`` (flat arrays, x
+    fastest). Cell c gets ⌊ρV/mass + ξ⌋ particles (the mean mass is exact),
+    uniformly placed, with equilibrium velocities (normal about (u, v, 0),
+    variance θ = p/ρ per component) and internal energies (θ Gamma(ζ/2)).
+    Cell c draws from the stream ``(seed, step, key0 + c)``: the result does
+    not depend on the thread count."""
+    dim = lo.size
+    ncell = rho.size
+    volume = 1.0
     for a in range(dim):
-        x[:, a] = lo[a] + (index[a] + rng.uniform(0.0, 1.0, n)) * spacing[a]
-    states = [np.broadcast_to(np.asarray(q, float), tuple(reversed(shape))).reshape(-1)[cell] for q in (rho, u, v, p)]
-    vel, e = equilibrium_particles(rng, n, *states, zeta)
+        volume *= spacing[a]
+    first = np.zeros(ncell + 1, dtype=np.int64)
+    for c in numba.prange(ncell):
+        first[c + 1] = _count(stream(seed, step, key0 + c), rho[c] * volume / mass)[1]
+    for c in range(ncell):
+        first[c + 1] += first[c]
+    n = first[ncell]
+    x = np.empty((n, dim))
+    vel = np.empty((n, 3))
+    e = np.zeros(n)
+    for c in numba.prange(ncell):
+        state = _count(stream(seed, step, key0 + c), 0.0)[0]
+        corner0 = lo[0] + (c % shape[0]) * spacing[0]
+        corner1 = lo[1] + (c // shape[0]) * spacing[1] if dim == 2 else 0.0
+        scale = np.sqrt(p[c] / rho[c])
+        for k in range(first[c], first[c + 1]):
+            state, w = uniform(state)
+            x[k, 0] = corner0 + w * spacing[0]
+            if dim == 2:
+                state, w = uniform(state)
+                x[k, 1] = corner1 + w * spacing[1]
+            state, z0 = normal(state)
+            state, z1 = normal(state)
+            state, z2 = normal(state)
+            vel[k, 0] = u[c] + scale * z0
+            vel[k, 1] = v[c] + scale * z1
+            vel[k, 2] = scale * z2
+            if zeta > 0.0:
+                state, g = gamma(state, 0.5 * zeta)
+                e[k] = scale * scale * g
     return x, vel, e

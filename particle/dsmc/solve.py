@@ -33,7 +33,7 @@ from cases.scene import Inflow
 from cases.shapes import square
 from particle.dsmc.cells import cell_index, sort_into_cells
 from particle.dsmc.equilibrate import equilibrate
-from particle.dsmc.gas import equilibrium_particles, internal_degrees, particles_in_cells
+from particle.dsmc.gas import internal_degrees, particles_in_cells
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
 from particle.dsmc.sample import CellSums
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
@@ -117,7 +117,6 @@ class _Gas:
 
     def __init__(self, scene, dx, ppc, zeta, seed):
         self.scene, self.zeta, self.seed = scene, zeta, seed
-        self.rng = np.random.default_rng(seed)
         dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
@@ -131,8 +130,10 @@ class _Gas:
                         for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
         v = v if dim == 2 else np.zeros_like(u)
         self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
-        self.x, self.v, self.e = particles_in_cells(self.rng, self.lo, self.spacing, self.shape, rho, u, v, p,
-                                                    self.mass, zeta)
+        self.ncell = int(np.prod(self.shape))
+        flat = [np.ascontiguousarray(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]
+        self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
+                                                    *flat, self.mass, zeta, seed, 0, self.ncell)
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
         self._spare = None  # buffers the next cell sort writes into
@@ -169,7 +170,7 @@ class _Gas:
         """Advance the gas by ``dt`` from ``t`` (step number ``n``); returns
         the force on every side over the step (per metre depth in 2D, per
         square metre in 1D)."""
-        entering = [self._reservoir(side, t + dt, dt) for side in range(len(self.sides)) if self.sides[side] == OPEN]
+        entering = [self._reservoir(side, t + dt, dt, n) for side in range(len(self.sides)) if self.sides[side] == OPEN]
         if entering:
             self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
                                       for k, a in enumerate((self.x, self.v, self.e)))
@@ -216,24 +217,25 @@ class _Gas:
         out = self.scene.output
         return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape, self.output_fraction)
 
-    def _reservoir(self, side, t, dt):
+    def _reservoir(self, side, t, dt, n):
         """Equilibrium particles in a slab outside the open ``side``, deep
         enough to hold every particle that can fly in over ``dt``: at the
         inflow's imposed state, or at an outflow at the state of the
-        adjacent cells (zero gradient)."""
+        adjacent cells (zero gradient). Random streams: the redraw of cell c
+        at step n draws from key c, the initial fill of cell c from step 0,
+        key ncell + c, the reservoir of side s at step n from key
+        2 ncell + s."""
         axis, upper = side // 2, side % 2 == 1
         rho, u, v, p = self._outside_state(side, t)
         normal_in = -(u, v)[axis] if upper else (u, v)[axis]
         depth = dt * (normal_in + RESERVOIR_SIGMAS * np.sqrt(p / rho))
         if depth <= 0.0:
             return np.zeros((0, self.scene.dim)), np.zeros((0, 3)), np.zeros(0)
-        span = self.hi - self.lo
-        area = float(np.prod(np.delete(span, axis)))
-        n = int(np.floor(rho * depth * area / self.mass + self.rng.uniform()))
-        x = self.lo + self.rng.uniform(0.0, 1.0, (n, self.scene.dim)) * span
-        x[:, axis] = (self.hi[axis] + self.rng.uniform(0.0, depth, n)) if upper else \
-            (self.lo[axis] - self.rng.uniform(0.0, depth, n))
-        vel, e = equilibrium_particles(self.rng, n, rho, u, v, p, self.zeta)
+        corner, size = self.lo.copy(), self.hi - self.lo
+        corner[axis], size[axis] = (self.hi[axis] if upper else self.lo[axis] - depth), depth
+        x, vel, e = particles_in_cells(corner, size, np.ones(self.scene.dim, dtype=np.int64),
+                                       *(np.array([q], dtype=float) for q in (rho, u, v, p)), self.mass, self.zeta,
+                                       self.seed, n, 2 * self.ncell + side)
         if self.scene.obstacles:  # an obstacle may run out through the side: no gas inside it
             fluid = ~inside_obstacles(x, *self.polygons[:3])
             x, vel, e = x[fluid], vel[fluid], e[fluid]
