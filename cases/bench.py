@@ -18,8 +18,10 @@ from compare.metrics import field_error
 
 #: sod L1(rho) targets for time-to-accuracy (SPEC §7)
 TARGETS = (1e-2, 3e-3)
-#: cell sizes tried, coarse to fine, until every target is met
-SOD_LADDER = (1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4, 3.125e-4)
+#: settings tried, coarse to fine, until every target is met: cell sizes, and
+#: for DSMC cell sizes with particles per cell (its error is scatter and cell-size dissipation)
+SOD_LADDER = tuple({"dx": dx} for dx in (1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4, 3.125e-4))
+SOD_LADDERS = {"dsmc": tuple({"dx": 1 / cells, "ppc": ppc} for cells, ppc in ((200, 100), (400, 300), (800, 1000)))}
 
 
 def _machine() -> dict:
@@ -30,7 +32,8 @@ def _machine() -> dict:
 
 
 #: method -> (metric, unit) of its throughput record
-THROUGHPUT = {"fv": ("cell_updates_per_s", "cells/s"), "sph": ("particle_steps_per_s", "particles/s")}
+THROUGHPUT = {"fv": ("cell_updates_per_s", "cells/s"), "sph": ("particle_steps_per_s", "particles/s"),
+              "dsmc": ("particle_steps_per_s", "particles/s")}
 
 
 def throughput(method: str, size: int, t_end: float) -> list[dict]:
@@ -38,7 +41,8 @@ def throughput(method: str, size: int, t_end: float) -> list[dict]:
     cells or particles (float64) run to ``t_end``, compile time excluded
     (output frames included). Defaults used by :func:`bench`: FV at 512² to
     0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3 (about
-    20 steps). SPH adds the interactions per second of its force pass (the
+    20 steps), DSMC on 258² cells of 30 particles (2.0 million) to 4e-3
+    (about 45 steps: move, sort, redraw and sampling). SPH adds the interactions per second of its force pass (the
     ordered pairs i–j with r_ij < max(H_i, H_j) whose terms it summed, over
     the seconds spent in that pass; each pair is evaluated once for both
     particles)."""
@@ -58,20 +62,21 @@ def throughput(method: str, size: int, t_end: float) -> list[dict]:
 
 def time_to_accuracy(method: str) -> list[dict]:
     """Wall time ``method`` needs to bring L1(rho) on ``sod`` below each of
-    ``TARGETS``: the run time of the coarsest resolution of ``SOD_LADDER``
-    that meets it."""
+    ``TARGETS``: the run time of the cheapest settings of its ladder
+    (``SOD_LADDERS``, else ``SOD_LADDER``) that meet it."""
     scene = get("sod")
-    run(scene, method, dx=SOD_LADDER[0], progress=False)  # warm-up: first-call costs are not the method's
+    ladder = SOD_LADDERS.get(method, SOD_LADDER)
+    run(scene, method, **ladder[0], progress=False)  # warm-up: first-call costs are not the method's
     records, pending = [], list(TARGETS)
-    for dx in SOD_LADDER:
-        ds = run(scene, method, dx=dx, progress=False)
+    for settings in ladder:
+        ds = run(scene, method, **settings, progress=False)
         exact = scene.exact(ds.time.values)
         error = field_error(ds["rho"].isel(time=-1), exact["rho"].isel(time=-1))
         for target in [t for t in pending if error < t]:
             records.append({
                 "method": method, "case": "sod", "n_elements": ds.attrs["n_elements"],
                 "metric": f"time_to_L1_rho_below_{target:g}", "value": ds.attrs["wall_seconds"], "unit": "s",
-                "compile_seconds": ds.attrs["compile_seconds"], "dx": dx, "L1_rho": error,
+                "compile_seconds": ds.attrs["compile_seconds"], **settings, "L1_rho": error,
             })
             pending.remove(target)
         if not pending:
@@ -82,7 +87,8 @@ def time_to_accuracy(method: str) -> list[dict]:
 def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = False) -> list[dict]:
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
-    sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3)}
+    sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3),
+             "dsmc": (64 if quick else 258, 4e-3)}
     for method in (m for m in THROUGHPUT if m in methods()):
         records += throughput(method, *sizes[method])
         records += time_to_accuracy(method)

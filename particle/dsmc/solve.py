@@ -42,6 +42,8 @@ from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obst
 SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "t_end", "progress")
 #: an open side's reservoir is deep enough for inward normal speeds up to U_n + RESERVOIR_SIGMAS √θ
 RESERVOIR_SIGMAS = 6.0
+#: steps over which an outflow's boundary state is averaged (exponentially)
+OUTFLOW_MEMORY = 20.0
 #: an obstacle on which the kernels are compiled
 _UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
@@ -130,6 +132,7 @@ class _Gas:
                         for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
         v = v if dim == 2 else np.zeros_like(u)
         self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
+        self.initial_fields = (rho, u, v, p)  # the scene's initial state per cell: far field of an outflow
         self.ncell = int(np.prod(self.shape))
         flat = [np.ascontiguousarray(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]
         self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
@@ -137,6 +140,7 @@ class _Gas:
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
         self._spare = None  # buffers the next cell sort writes into
+        self._outflow = {}  # side -> running moments of the cells next to an outflow
         fraction = None
         if scene.obstacles:
             fluid = ~inside_obstacles(self.x, *self.polygons[:3])
@@ -242,17 +246,42 @@ class _Gas:
         return x, vel, e
 
     def _outside_state(self, side, t):
-        """(rho, u, v, p) of the gas beyond an open side."""
+        """(rho, u, v, p) of the gas beyond an open side: an inflow's imposed
+        state; at an outflow, the characteristic far-field state between
+        the layer of cells next to the side and the scene's initial state
+        there, the undisturbed gas (:func:`far_field_state`). The layer's state comes from its
+        moments averaged over the last ~``OUTFLOW_MEMORY`` steps: copying a
+        single step's sample out into the reservoir would feed its scatter
+        back in, and the boundary state would drift like a random walk.
+        Flow along axes the scene does not resolve is only scatter: its
+        velocity is 0 and its energy thermal."""
         boundary = self.scene.boundaries[self.scene.sides[side]]
         if isinstance(boundary, Inflow):
             return tuple(float(q) for q in boundary.state(t))
-        state = self.state
+        sums = self._layer_sums(side)
+        running = self._outflow.get(side, sums)
+        running = self._outflow[side] = running + (sums - running) / OUTFLOW_MEMORY
         layer = _boundary_layer(side, self.scene.dim)
-        s0 = self.cells.s0.reshape(state[0].shape)[layer]
-        if s0.sum() == 0:
-            state, s0 = self.initial_state, np.ones_like(s0)
-        weights = s0 / s0.sum()
-        return tuple(float(np.nansum(q[layer] * weights)) for q in state[:4])
+        far = tuple(float(np.mean(q[layer])) for q in self.initial_fields)
+        inside = self._layer_state(running) if running[0] > 0.0 else far
+        return far_field_state(inside, far, side // 2, 1.0 if side % 2 else -1.0, self.scene.gamma)
+
+    def _layer_sums(self, side) -> np.ndarray:
+        """(S0, S1 (3), S2, open volume) of the layer of cells next to ``side``."""
+        layer = _boundary_layer(side, self.scene.dim)
+        shape = self.state[0].shape
+        return np.array([self.cells.s0.reshape(shape)[layer].sum(),
+                         *(self.cells.s1[:, a].reshape(shape)[layer].sum() for a in range(3)),
+                         self.cells.s2.reshape(shape)[layer].sum(), self.cells.volume.reshape(shape)[layer].sum()])
+
+    def _layer_state(self, sums):
+        """(rho, u, v, p) from a layer's moments (:meth:`_layer_sums`)."""
+        count, momentum, energy, volume = sums[0], sums[1:4], sums[4], sums[5]
+        U = momentum / count
+        U[self.scene.dim:] = 0.0
+        rho = self.mass * count / volume
+        p = (self.scene.gamma - 1.0) * rho * (energy / count - 0.5 * float(U @ U))
+        return float(rho), float(U[0]), float(U[1]), float(p)
 
     def _side_forces(self, delivered, dt) -> np.ndarray:
         """Per side: the momentum the particles handed to a reflecting side
@@ -266,6 +295,34 @@ class _Gas:
                 length = float(self.hi[1 - side // 2] - self.lo[1 - side // 2]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * length
         return forces
+
+
+def far_field_state(inside, far, axis, normal, gamma):
+    """(rho, u, v, p) beyond an open side whose outward normal is ``normal``
+    (±1) along ``axis``, from the state ``inside`` next to it and the
+    undisturbed state ``far`` (Riemann invariants of the characteristics
+    normal to the side; e.g. Blazek, "Computational Fluid Dynamics", §8.4):
+    J⁺ = u_n + 2c/(γ − 1) leaves from inside, J⁻ = u_n − 2c/(γ − 1) enters
+    from far, entropy p/ρ^γ and tangential velocity come from inside where
+    the gas flows out, from far where it flows in; a supersonic outflow
+    takes the inside state, a supersonic inflow the far one."""
+    (rho_i, *vel_i, p_i), (rho_f, *vel_f, p_f) = inside, far
+    un_i, un_f = normal * vel_i[axis], normal * vel_f[axis]
+    c_i, c_f = np.sqrt(gamma * p_i / rho_i), np.sqrt(gamma * p_f / rho_f)
+    if un_i >= c_i:
+        return inside
+    if un_f <= -c_f:
+        return far
+    riemann_out = un_i + 2.0 * c_i / (gamma - 1.0)
+    riemann_in = un_f - 2.0 * c_f / (gamma - 1.0)
+    un = 0.5 * (riemann_out + riemann_in)
+    c = 0.25 * (gamma - 1.0) * (riemann_out - riemann_in)
+    rho_s, vel_s, p_s = (rho_i, vel_i, p_i) if un > 0.0 else (rho_f, vel_f, p_f)
+    entropy = p_s / rho_s**gamma
+    rho = (c * c / (gamma * entropy)) ** (1.0 / (gamma - 1.0))
+    vel = list(vel_s)
+    vel[axis] = normal * un
+    return float(rho), float(vel[0]), float(vel[1]), float(entropy * rho**gamma)
 
 
 def _buffer_of(a: np.ndarray) -> np.ndarray:
