@@ -1,0 +1,36 @@
+"""Validation runs of the equilibrium DSMC (method ``dsmc``) against exact
+solutions and the converged FV result (issue acceptance figures; slow: run
+with ``python -m pytest -m slow``)."""
+
+import pytest
+
+import cases
+from compare.metrics import field_error
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("Ms", [1.5, 3.2, 6.0])
+def test_shock_reflection_coefficient(Ms):
+    # 500 cells, 30 particles per cell ahead of the shock, one run: the wall probe's plateau
+    ds = cases.run(cases.get("shock_reflection", Ms=Ms), "dsmc", ppc=30, seed=1, progress=False)
+    assert ds.attrs["reflection_coefficient"] == pytest.approx(ds.attrs["reflection_coefficient_exact"], rel=0.05)
+
+
+@pytest.mark.slow
+def test_sod_400_cells_with_enough_particles():
+    # 120 particles per cell on the low-density side x 16 ensembles (about 4 minutes on two cores)
+    scene = cases.get("sod", nx_out=400)
+    ds = cases.run(scene, "dsmc", dx=1 / 400, ppc=120, ensembles=16, seed=100)
+    exact = scene.exact(ds.time.values)["rho"].isel(time=-1)
+    assert field_error(ds["rho"].isel(time=-1), exact) <= 1.8e-2
+
+
+@pytest.mark.slow
+def test_blast_wall_1d_arrival_and_impulse_against_converged_fv():
+    # the converged 1D FV result of the scene (MUSCL-Hancock, HLLC, dx = 5e-4): arrival 1.11130e-3 s,
+    # impulse at 3 ms 72.847 N s/m (recomputed here)
+    scene = cases.get("blast_wall")
+    fv = cases.run(scene, "fv", dx=5e-4, progress=False)
+    ds = cases.run(scene, "dsmc", dx=1e-3, ppc=30, seed=0, progress=False)
+    assert ds.attrs["wall_arrival_time"] == pytest.approx(fv.attrs["wall_arrival_time"], rel=0.04)
+    assert ds.attrs["wall_impulse_final"] == pytest.approx(fv.attrs["wall_impulse_final"], rel=0.08)
