@@ -84,9 +84,9 @@ def ensemble_average(members: list, gamma: float):
     for name, value in mean.items():
         out[name].values = np.asarray(value.values, dtype=first[name].dtype)
     parameters = json.loads(first.attrs["parameters"])
-    parameters["solver"].update(seed=int(_seed(first)), ensembles=K)
+    parameters["solver"]["ensembles"] = K  # (its seed is the first member's)
     out.attrs.update(
-        ensembles=K, seeds=json.dumps([int(_seed(m)) for m in members]),
+        ensembles=K, seeds=json.dumps([_seed(m) for m in members]),
         n_elements=int(sum(m.attrs["n_elements"] for m in members)),
         n_steps=int(max(m.attrs["n_steps"] for m in members)),
         wall_seconds=float(sum(m.attrs["wall_seconds"] for m in members)),
@@ -98,4 +98,5 @@ def ensemble_average(members: list, gamma: float):
 
 
 def _seed(ds) -> int:
+    """The seed a member ran with."""
     return json.loads(ds.attrs["parameters"])["solver"]["seed"]

@@ -51,11 +51,22 @@ class CellSums:
     def state(self, mass, gamma):
         """``(rho, u, v, p, e)`` per cell (NaN velocity and pressure where no
         particle was sampled), each of the grid's shape ((ny, nx) in 2D)."""
-        with np.errstate(invalid="ignore", divide="ignore"):
-            rho = np.where(self.volume > 0.0, mass * self.s0 / (max(self.samples, 1) * self.volume), np.nan)
-            U = self.s1 / self.s0[:, None]
-            resolved = U[:, : len(self.shape)]
-            e = self.s2 / self.s0 - 0.5 * np.einsum("ij,ij->i", resolved, resolved)
-        p = (gamma - 1.0) * rho * e
+        rho, U, p, e = moment_state(self.s0, self.s1, self.s2, self.volume, self.samples, mass, gamma,
+                                    len(self.shape))
         grid = tuple(reversed(self.shape))
         return tuple(q.reshape(grid) for q in (rho, U[:, 0], U[:, 1], p, e))
+
+
+def moment_state(s0, s1, s2, volume, samples, mass, gamma, resolved):
+    """``(rho, U, p, e)`` of moment sums (module docstring) per entry:
+    ``s0`` (n,), ``s1`` (n, 3), ``s2`` (n,) accumulated over ``samples``
+    samples in open volumes ``volume`` (n,); the first ``resolved`` velocity
+    components are the flow's, the others' energy counts as thermal. NaN
+    density where the volume is 0, NaN velocity and pressure where no
+    particle was sampled."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rho = np.where(volume > 0.0, mass * s0 / (max(samples, 1) * volume), np.nan)
+        U = s1 / s0[:, None]
+        flow = U[:, :resolved]
+        e = s2 / s0 - 0.5 * np.einsum("ij,ij->i", flow, flow)
+    return rho, U, (gamma - 1.0) * rho * e, e

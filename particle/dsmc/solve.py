@@ -35,7 +35,7 @@ from particle.dsmc.cells import cell_index, sort_into_cells
 from particle.dsmc.equilibrate import equilibrate
 from particle.dsmc.gas import internal_degrees, particles_in_cells
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.sample import CellSums
+from particle.dsmc.sample import CellSums, moment_state
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
                                  push_out_of_obstacles)
 
@@ -109,9 +109,9 @@ def _compile_kernels(dim, zeta):
     equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
     cell_index(x, lo, spacing, shape)
     if dim == 2:
-        square = obstacle_polygons([_UNIT_SQUARE], 1.0)
-        fly_past_obstacles(x, v, 0.0, *square)
-        push_out_of_obstacles(x, v, *square[:3])
+        polygons = obstacle_polygons([_UNIT_SQUARE], 1.0)
+        fly_past_obstacles(x, v, 0.0, *polygons)
+        push_out_of_obstacles(x, v, *polygons[:3])
 
 
 class _Gas:
@@ -152,7 +152,7 @@ class _Gas:
         self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
         self.cells.add(self.x, self.v, self.e)
         self.totals0 = self.totals()
-        self.initial_state = self.state = self.cells.state(self.mass, scene.gamma)
+        self.state = self.cells.state(self.mass, scene.gamma)
 
     def totals(self) -> tuple[float, float]:
         """Mass and energy (translational and internal) of all particles."""
@@ -223,9 +223,8 @@ class _Gas:
 
     def _reservoir(self, side, t, dt, n):
         """Equilibrium particles in a slab outside the open ``side``, deep
-        enough to hold every particle that can fly in over ``dt``: at the
-        inflow's imposed state, or at an outflow at the state of the
-        adjacent cells (zero gradient). Random streams: the redraw of cell c
+        enough to hold every particle that can fly in over ``dt``, at the
+        state :meth:`_outside_state` gives. Random streams: the redraw of cell c
         at step n draws from key c, the initial fill of cell c from step 0,
         key ncell + c, the reservoir of side s at step n from key
         2 ncell + s."""
@@ -249,8 +248,9 @@ class _Gas:
         """(rho, u, v, p) of the gas beyond an open side: an inflow's imposed
         state; at an outflow, the characteristic far-field state between
         the layer of cells next to the side and the scene's initial state
-        there, the undisturbed gas (:func:`far_field_state`). The layer's state comes from its
-        moments averaged over the last ~``OUTFLOW_MEMORY`` steps: copying a
+        there, the undisturbed gas (:func:`far_field_state`). The layer's
+        state comes from its moments averaged over the last
+        ~``OUTFLOW_MEMORY`` steps: copying a
         single step's sample out into the reservoir would feed its scatter
         back in, and the boundary state would drift like a random walk.
         Flow along axes the scene does not resolve is only scatter: its
@@ -275,13 +275,12 @@ class _Gas:
                          self.cells.s2.reshape(shape)[layer].sum(), self.cells.volume.reshape(shape)[layer].sum()])
 
     def _layer_state(self, sums):
-        """(rho, u, v, p) from a layer's moments (:meth:`_layer_sums`)."""
-        count, momentum, energy, volume = sums[0], sums[1:4], sums[4], sums[5]
-        U = momentum / count
-        U[self.scene.dim:] = 0.0
-        rho = self.mass * count / volume
-        p = (self.scene.gamma - 1.0) * rho * (energy / count - 0.5 * float(U @ U))
-        return float(rho), float(U[0]), float(U[1]), float(p)
+        """(rho, u, v, p) from a layer's moments (:meth:`_layer_sums`); the
+        velocity along an unresolved axis is 0."""
+        rho, U, p, _ = moment_state(sums[0:1], sums[None, 1:4], sums[4:5], sums[5:6], 1, self.mass,
+                                    self.scene.gamma, self.scene.dim)
+        u, v = U[0, 0], (U[0, 1] if self.scene.dim == 2 else 0.0)
+        return float(rho[0]), float(u), float(v), float(p[0])
 
     def _side_forces(self, delivered, dt) -> np.ndarray:
         """Per side: the momentum the particles handed to a reflecting side
