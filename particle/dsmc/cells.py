@@ -85,3 +85,24 @@ def sort_into_cells(x, v, e, lo, spacing, shape, chunks, xs, vs, es):
             vs[k, 2] = v[i, 2]
             es[k] = e[i]
     return start
+
+
+@numba.njit(cache=True, inline="always")
+def record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy):
+    """Write N, Σv (three components) and Σ(½|v|² + e) of the particles
+    ``a:b`` (cell ``cell``, once sorted) into ``count``, ``momentum`` and
+    ``energy``, and return them as ``(N, Σv_x, Σv_y, Σv_z, Σ(½|v|² + e))``;
+    the internal energies count only if ``zeta`` > 0."""
+    p0 = p1 = p2 = 0.0
+    total = 0.0
+    for i in range(a, b):
+        p0 += v[i, 0]
+        p1 += v[i, 1]
+        p2 += v[i, 2]
+        total += 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
+        if zeta > 0.0:
+            total += e[i]
+    count[cell] = b - a
+    momentum[cell, 0], momentum[cell, 1], momentum[cell, 2] = p0, p1, p2
+    energy[cell] = total
+    return b - a, p0, p1, p2, total

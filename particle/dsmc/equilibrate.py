@@ -28,6 +28,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from particle.dsmc.cells import record_cell_sums
 from particle.dsmc.random import gamma, normal, stream
 
 
@@ -45,20 +46,8 @@ def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
     ncell = start.size - 1
     for cell in numba.prange(ncell):
         a, b = start[cell], start[cell + 1]
-        N = b - a
         # the cell's momentum and energy per unit particle mass
-        p0 = p1 = p2 = 0.0
-        total = 0.0
-        for i in range(a, b):
-            p0 += v[i, 0]
-            p1 += v[i, 1]
-            p2 += v[i, 2]
-            total += 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
-            if zeta > 0.0:
-                total += e[i]
-        count[cell] = N
-        momentum[cell, 0], momentum[cell, 1], momentum[cell, 2] = p0, p1, p2
-        energy[cell] = total
+        N, p0, p1, p2, total = record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy)
         if N < 2:
             continue
         U0, U1, U2 = p0 / N, p1 / N, p2 / N
