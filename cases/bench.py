@@ -41,7 +41,7 @@ def throughput(method: str, size: int, t_end: float) -> list[dict]:
     cells or particles (float64) run to ``t_end``, compile time excluded
     (output frames included). Defaults used by :func:`bench`: FV at 512² to
     0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3 (about
-    20 steps), DSMC on 258² cells of 30 particles (2.0 million) to 4e-3
+    20 steps), DSMC on 258² cells of 30 particles (2.0 million) to 8e-3
     (about 45 steps: move, sort, redraw and sampling). SPH adds the interactions per second of its force pass (the
     ordered pairs i–j with r_ij < max(H_i, H_j) whose terms it summed, over
     the seconds spent in that pass; each pair is evaluated once for both
@@ -88,7 +88,7 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
     sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3),
-             "dsmc": (64 if quick else 258, 4e-3)}
+             "dsmc": (64 if quick else 258, 8e-3)}
     for method in (m for m in THROUGHPUT if m in methods()):
         records += throughput(method, *sizes[method])
         records += time_to_accuracy(method)

@@ -196,3 +196,20 @@ def test_closed_box_with_obstacles_keeps_every_particle_outside_them_for_10000_s
     assert gas.safeguard == 0  # the exact segment intersection never needed the push-out safeguard
     mass, energy = gas.totals()
     assert mass == gas.totals0[0] and energy == pytest.approx(gas.totals0[1], rel=1e-11)
+
+
+def test_frames_on_the_run_grid_take_the_steps_cell_sums():
+    from particle.dsmc.solve import _Gas
+
+    # after steps, the sums the redraw recorded are the moments of the particles as they stand
+    scene = cases.get("shock_reflection", Ms=2.0, dim=2)
+    gas = _Gas(scene, scene.dx, 10, 2.0, seed=1)
+    for n in range(3):
+        gas.step(n * 1e-6, 1e-6, n)
+    from_sums, from_particles = gas.output_sums(), gas.output_sums()
+    assert from_sums.same_grid(gas.cells)
+    gas.sample_into(from_sums)
+    from_particles.add(gas.x, gas.v, gas.e)
+    np.testing.assert_array_equal(from_sums.s0, from_particles.s0)
+    np.testing.assert_allclose(from_sums.s1, from_particles.s1, rtol=1e-12, atol=1e-12 * np.abs(gas.v).max())
+    np.testing.assert_allclose(from_sums.s2, from_particles.s2, rtol=1e-12)

@@ -48,6 +48,18 @@ class CellSums:
         self.s2 += np.bincount(cell, 0.5 * np.einsum("ij,ij->i", v, v) + e, minlength=self.ncell)
         self.samples += 1
 
+    def same_grid(self, other: "CellSums") -> bool:
+        """Whether ``other`` sums over the same cells."""
+        return (self.shape == other.shape and np.array_equal(self.lo, other.lo)
+                and np.array_equal(self.spacing, other.spacing))
+
+    def add_sums(self, other: "CellSums"):
+        """Add the samples ``other`` holds, on the same grid."""
+        self.s0 += other.s0
+        self.s1 += other.s1
+        self.s2 += other.s2
+        self.samples += other.samples
+
     def state(self, mass, gamma):
         """``(rho, u, v, p, e)`` per cell (NaN velocity and pressure where no
         particle was sampled), each of the grid's shape ((ny, nx) in 2D)."""

@@ -120,9 +120,9 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
                 run.n_steps += 1
                 bar.update(dt)
                 if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
-                    frame.add(gas.x, gas.v, gas.e)
+                    gas.sample_into(frame)
             if frame.samples == 0:  # an output time with no step before it (t = 0)
-                frame.add(gas.x, gas.v, gas.e)
+                gas.sample_into(frame)
             run.add_frame(run.fields(frame), t)
     except KeyboardInterrupt:
         raise run.failure(f"dsmc run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
@@ -281,8 +281,17 @@ class _Gas:
     def snapshot(self) -> CellSums:
         """The moments of the current particles on the output grid."""
         frame = self.output_sums()
-        frame.add(self.x, self.v, self.e)
+        self.sample_into(frame)
         return frame
+
+    def sample_into(self, frame: CellSums):
+        """Add the current particles' moments to ``frame``: the sums of the
+        last step's cells where ``frame`` is on the same grid (the step
+        conserved them), else one pass over the particles."""
+        if frame.same_grid(self.cells):
+            frame.add_sums(self.cells)
+        else:
+            frame.add(self.x, self.v, self.e)
 
     def output_sums(self) -> CellSums:
         """Empty moment sums on the scene's output grid."""
