@@ -70,6 +70,26 @@ def cmd_run(args) -> int:
     return 0
 
 
+def cmd_sweep(args) -> int:
+    from cases.sweep import sweep
+
+    values = {key: [v.strip() for v in value.split(",")] for key, value in _settings(args.set).items()}
+    settings = _settings(args.option)
+    for key in ("t_end", "cfl"):
+        if getattr(args, key) is not None:
+            settings[key] = getattr(args, key)
+    dx = [float(v) for v in args.dx.split(",")] if args.dx else [None]
+    records = sweep(args.case, [m.strip() for m in args.methods.split(",")], dx, values, args.output, settings,
+                    scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    counts = {status: sum(r["status"] == status for r in records) for status in ("ran", "done before", "failed")}
+    print(f"{len(records)} runs of {args.case}: {counts['ran']} ran, {counts['done before']} done before, "
+          f"{counts['failed']} failed -> {args.output}")
+    for r in records:
+        if r["status"] == "failed":
+            print(f"failed: {r['name']}: {r['message']}", file=sys.stderr)
+    return 3 if counts["failed"] else 0
+
+
 def cmd_compare(args) -> int:
     from cases.reporting import compare_files
 
@@ -118,6 +138,23 @@ def parser() -> argparse.ArgumentParser:
                    help="also write the last particle state beside the output, as <output>_particles.nc (sph)")
     r.add_argument("--quiet", action="store_true")
     r.set_defaults(func=cmd_run)
+
+    w = sub.add_parser("sweep", help="every combination of methods, resolutions and --set values, on Dask")
+    w.add_argument("case")
+    w.add_argument("--methods", "-m", required=True, help="comma-separated, e.g. fv,sph,dsmc")
+    w.add_argument("--dx", help="comma-separated cell sizes or particle spacings [m] (default: the scene's)")
+    w.add_argument("--set", action="append", metavar="KEY=V1,V2,...",
+                   help="swept scene parameter or method setting (repeatable); a setting sweeps only the methods "
+                        "that take it")
+    w.add_argument("--option", action="append", metavar="KEY=VALUE", help="fixed solver setting (repeatable)")
+    w.add_argument("--t-end", type=float, dest="t_end")
+    w.add_argument("--cfl", type=float)
+    w.add_argument("--seed", type=int, help="random seed of the stochastic methods")
+    w.add_argument("--scheduler", help="Dask scheduler address (default: a LocalCluster)")
+    w.add_argument("--workers", type=int, help="LocalCluster worker processes (default: one per core)")
+    w.add_argument("-o", "--output", default="runs", help="folder of the runs' files")
+    w.add_argument("--quiet", action="store_true")
+    w.set_defaults(func=cmd_sweep)
 
     c = sub.add_parser("compare", help="error table of runs of one scene")
     c.add_argument("runs", nargs="+")
