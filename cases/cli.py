@@ -54,6 +54,11 @@ def cmd_run(args) -> int:
         settings.update(ensembles=args.ensembles, scheduler=args.scheduler)
     if args.particles:
         settings["particles"] = str(Path(args.output).with_suffix("")) + "_particles.nc"
+    checkpoint = Path(str(args.output) + ".checkpoint")
+    if args.checkpoint_every is not None or args.resume:
+        settings.update(checkpoint=checkpoint, resume=args.resume)
+        if args.checkpoint_every is not None:
+            settings["checkpoint_every"] = args.checkpoint_every
     settings.update(_settings(args.option))
     settings.update({k: v for k, v in pairs.items() if k not in scene_keys})  # --set of a solver setting (ppc)
     try:
@@ -64,6 +69,7 @@ def cmd_run(args) -> int:
             print(f"partial result written to {args.output}", file=sys.stderr)
         raise
     write(ds, args.output)
+    checkpoint.unlink(missing_ok=True)  # the run is complete
     if not args.quiet:
         print(f"{args.case} with {args.method}: {ds.attrs['n_steps']} steps, {ds.attrs['wall_seconds']:.2f} s "
               f"(+{ds.attrs['compile_seconds']:.2f} s compile) -> {args.output}")
@@ -136,6 +142,10 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("-o", "--output", required=True)
     r.add_argument("--particles", action="store_true",
                    help="also write the last particle state beside the output, as <output>_particles.nc (sph)")
+    r.add_argument("--checkpoint-every", type=float, dest="checkpoint_every", metavar="SECONDS",
+                   help="save the run's state to <output>.checkpoint every SECONDS of wall time and on "
+                        "SIGINT/SIGTERM (fv, dsmc)")
+    r.add_argument("--resume", action="store_true", help="continue from <output>.checkpoint")
     r.add_argument("--quiet", action="store_true")
     r.set_defaults(func=cmd_run)
 

@@ -89,6 +89,18 @@ class RunRecord(ABC):
         self.frames.append(fields)
         self.frame_times.append(t)
 
+    def saved(self) -> dict:
+        """What a checkpoint keeps of the record (frames, history, steps,
+        wall time so far)."""
+        return {"frames": self.frames, "frame_times": self.frame_times, "n_steps": self.n_steps,
+                "history": self.history, "wall": _time.perf_counter() - self.t_start}
+
+    def restore(self, saved: dict) -> None:
+        """Continue the record :meth:`saved` returned (its wall time counts)."""
+        self.frames, self.frame_times = saved["frames"], saved["frame_times"]
+        self.n_steps, self.history = saved["n_steps"], saved["history"]
+        self.t_start = _time.perf_counter() - saved["wall"]
+
     def failure(self, message: str, t: float, frame) -> SolverFailed:
         """A :class:`SolverFailed` carrying the result up to time ``t``;
         ``frame()`` gives the fields at ``t`` if no output frame holds them."""

@@ -3,12 +3,14 @@ schema Dataset on the scene's output grid."""
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 from tqdm.auto import tqdm
 
 from cases.checks import cfl as check_cfl
 from cases.checks import check_initial_state, check_obstacles, choice, positive
+from cases.checkpoint import checkpoint_for
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
@@ -52,17 +54,21 @@ def _fields(W, gamma, names, solid):
     return out
 
 
-def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, progress=True, **unknown):
+def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, progress=True, checkpoint=None,
+          checkpoint_every=600.0, resume=False, **unknown):
     """Run ``scene`` with the unsplit MUSCL–Hancock finite-volume scheme.
 
     ``dx`` is the cell size [m] (default: the scene's), ``cfl`` the Courant
     number in (0, 1], ``limiter`` one of ``LIMITERS``, ``riemann`` one of
     ``RIEMANN_SOLVERS``. Returns a schema Dataset; raises
     :class:`~cases.errors.SolverFailed` (with the partial result) if the state
-    turns non-physical or the run is interrupted.
+    turns non-physical or the run is interrupted. ``checkpoint`` is a file
+    the state is saved to every ``checkpoint_every`` seconds and on SIGINT
+    or SIGTERM; ``resume`` continues from it (:mod:`cases.checkpoint`).
     """
     if unknown:
-        raise InputError(f"method fv has no setting {sorted(unknown)[0]!r}; settings: dx, cfl, limiter, riemann, t_end.")
+        raise InputError(f"method fv has no setting {sorted(unknown)[0]!r}; settings: dx, cfl, limiter, riemann, t_end, "
+                         f"checkpoint, checkpoint_every, resume.")
     settings = {
         "method": "fv", "dx": positive("dx", scene.dx if dx is None else dx), "cfl": check_cfl(cfl),
         "limiter": choice("limiter", limiter, tuple(LIMITERS)), "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
@@ -97,34 +103,42 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
-    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
+    ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
+    saved = ckpt.saved_state()
+    if saved is not None:
+        U, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["U"]), saved["t"], saved["dt_cfl"]
+        run.restore(saved["run"])
+    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
-    try:
-        for t_out in out_times:
-            while t < t_out * (1 - 1e-14):
-                if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
-                    raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), t,
-                                      lambda: run.fields(U))
-                dt = min(dt_cfl, t_out - t)
-                U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-                if not np.isfinite(dt_cfl):
-                    # the last good state is kept for the partial result
-                    raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), t,
-                                      lambda: run.fields(U))
-                U = U_new
-                t_new = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                run.history.record(t, t_new, probes, forces)
-                run.n_steps += 1
-                bar.update(t_new - t)
-                t = t_new
-                if run.n_steps % 50 == 0:
-                    bar.set_postfix_str(f"{run.n_steps} steps")
-            run.add_frame(run.fields(U), t)
-    except KeyboardInterrupt:
-        raise run.failure(f"fv run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
-                          lambda: run.fields(U)) from None
-    finally:
-        bar.close()
+    with ckpt.watching_signals():
+        try:
+            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
+                while t < t_out * (1 - 1e-14):
+                    if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
+                        raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), t,
+                                          lambda: run.fields(U))
+                    dt = min(dt_cfl, t_out - t)
+                    U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+                    if not np.isfinite(dt_cfl):
+                        # the last good state is kept for the partial result
+                        raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), t,
+                                          lambda: run.fields(U))
+                    U = U_new
+                    t_new = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                    run.history.record(t, t_new, probes, forces)
+                    run.n_steps += 1
+                    bar.update(t_new - t)
+                    t = t_new
+                    if run.n_steps % 50 == 0:
+                        bar.set_postfix_str(f"{run.n_steps} steps")
+                    if ckpt.due():
+                        ckpt.save({"U": jax.tree_util.tree_map(np.asarray, U), "t": t, "dt_cfl": dt_cfl,
+                                   "run": run.saved()})
+                        if ckpt.stop:
+                            raise run.failure(ckpt.stopped("fv", scene.name, t, run.n_steps), t, lambda: run.fields(U))
+                run.add_frame(run.fields(U), t)
+        finally:
+            bar.close()
     return run.dataset()
 
 

@@ -33,6 +33,7 @@ import numba
 import numpy as np
 from tqdm.auto import tqdm
 
+from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import choice, in_range, integer, positive
 from cases.errors import InputError, Unsupported
 from cases.history import History, RunRecord
@@ -47,7 +48,8 @@ from particle.dsmc.sample import CellSums, moment_state
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
                                  push_out_of_obstacles)
 
-SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "collisions", "mean_free_path", "omega", "z_rot", "t_end", "progress")
+SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "collisions", "mean_free_path", "omega", "z_rot", "t_end", "progress",
+            *CHECKPOINT_SETTINGS)
 #: what happens in a cell after free flight: the equilibrium redraw, or true collisions
 COLLISIONS = ("equilibrium", "larsen-borgnakke")
 #: true collisions refuse a mean free path that makes a particle collide more often per step (the continuum limit,
@@ -62,7 +64,8 @@ _UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
 
 def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilibrium", mean_free_path=None,
-          omega=0.74, z_rot=5.0, t_end=None, progress=True, **unknown):
+          omega=0.74, z_rot=5.0, t_end=None, progress=True, checkpoint=None, checkpoint_every=600.0, resume=False,
+          **unknown):
     """Run ``scene`` with equilibrium DSMC on cells of size ``dx``.
 
     ``ppc`` particles per cell in the lowest-density initial state set the
@@ -75,7 +78,9 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
     16 ensembles). ``collisions="larsen-borgnakke"`` needs
     ``mean_free_path`` [m] at the lowest initial density; ``omega`` (VHS
     viscosity exponent, [0.5, 1]) and ``z_rot`` (rotational collision
-    number, ≥ 1) apply to it.
+    number, ≥ 1) apply to it. ``checkpoint`` is a file the state is saved
+    to every ``checkpoint_every`` seconds and on SIGINT or SIGTERM;
+    ``resume`` continues from it (:mod:`cases.checkpoint`).
     """
     if unknown:
         raise InputError(f"method dsmc has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
@@ -108,27 +113,37 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
     t_end, cfl, window = settings["t_end"], settings["cfl"], settings["window"]
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t = 0.0
-    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"dsmc {scene.name}", leave=False,
+    frame = gas.output_sums()
+    ckpt = checkpoint_for(scene, "dsmc", settings, checkpoint, checkpoint_every, resume)
+    saved = ckpt.saved_state()
+    if saved is not None:
+        t, frame = saved["t"], saved["frame"]
+        gas.restore(saved["gas"])
+        run.restore(saved["run"])
+    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"dsmc {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
-    try:
-        for t_out in out_times:
-            frame = gas.output_sums()
-            while t < t_out * (1 - 1e-14):
-                dt = min(cfl * gas.dx / gas.signal_speed(), t_out - t)
-                run.record(t, t + dt, gas.step(t, dt, run.n_steps))
-                t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                run.n_steps += 1
-                bar.update(dt)
-                if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
+    with ckpt.watching_signals():
+        try:
+            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
+                while t < t_out * (1 - 1e-14):
+                    dt = min(cfl * gas.dx / gas.signal_speed(), t_out - t)
+                    run.record(t, t + dt, gas.step(t, dt, run.n_steps))
+                    t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                    run.n_steps += 1
+                    bar.update(dt)
+                    if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
+                        gas.sample_into(frame)
+                    if ckpt.due():
+                        ckpt.save({"t": t, "frame": frame, "gas": gas.saved(), "run": run.saved()})
+                        if ckpt.stop:
+                            raise run.failure(ckpt.stopped("dsmc", scene.name, t, run.n_steps), t,
+                                              lambda: run.fields(gas.snapshot()))
+                if frame.samples == 0:  # an output time with no step before it (t = 0)
                     gas.sample_into(frame)
-            if frame.samples == 0:  # an output time with no step before it (t = 0)
-                gas.sample_into(frame)
-            run.add_frame(run.fields(frame), t)
-    except KeyboardInterrupt:
-        raise run.failure(f"dsmc run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
-                          lambda: run.fields(gas.snapshot())) from None
-    finally:
-        bar.close()
+                run.add_frame(run.fields(frame), t)
+                frame = gas.output_sums()
+        finally:
+            bar.close()
     return run.dataset()
 
 
@@ -191,6 +206,24 @@ class _Gas:
         self.cells.add(self.x, self.v, self.e)
         self.totals0 = self.totals()
         self.state = self.cells.state(self.mass, scene.gamma)
+
+    def saved(self) -> dict:
+        """Everything the next steps depend on, for a checkpoint: the
+        particles in their memory order, the last cell sums and state, an
+        outflow's running boundary moments, the collision maxima, the
+        counters."""
+        return {"x": self.x, "v": self.v, "e": self.e, "cells": self.cells, "state": self.state,
+                "outflow": self._outflow, "sigma_g_max": getattr(self, "sigma_g_max", None),
+                "counters": (self.safeguard, self.bounces, self.collisions)}
+
+    def restore(self, saved: dict) -> None:
+        """Continue from :meth:`saved`."""
+        self.x, self.v, self.e = saved["x"], saved["v"], saved["e"]
+        self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
+        if saved["sigma_g_max"] is not None:
+            self.sigma_g_max = saved["sigma_g_max"]
+        self.safeguard, self.bounces, self.collisions = saved["counters"]
+        self._spare = None
 
     def collide_with(self, mean_free_path, omega, z_rot, cfl):
         """Switch the step from the equilibrium redraw to VHS /

@@ -1,0 +1,66 @@
+"""Checkpoint and resume (cases.checkpoint; ``partmesh run --checkpoint-every
+--resume``): a run stopped by SIGTERM or SIGINT saves its state and its
+partial result, and the resumed run ends with the uninterrupted run's
+result, bit for bit."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import cases
+from cases.errors import InputError
+from compare.io import read
+
+
+def _run_command(method, dx, output, extra=()):
+    return [sys.executable, "-m", "cases.cli", "run", "sod", "-m", method, "--dx", str(dx), "-o", str(output),
+            "--quiet", *extra]
+
+
+@pytest.mark.parametrize("method, dx, extra, stop", [
+    ("fv", 2e-4, (), signal.SIGTERM),
+    ("dsmc", 2e-3, ("--set", "ppc=60", "--seed", "4"), signal.SIGINT),
+])
+def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, method, dx, extra, stop):
+    output = tmp_path / "run.nc"
+    checkpoint = tmp_path / "run.nc.checkpoint"
+    process = subprocess.Popen(_run_command(method, dx, output, (*extra, "--checkpoint-every", "0.3")),
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while not checkpoint.exists() and time.time() < deadline and process.poll() is None:
+        time.sleep(0.05)
+    process.send_signal(stop)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 3, err  # stopped between steps, with one sentence
+    assert f"stopped by {stop.name}" in err and "resume it from" in err
+    partial = read(output)
+    assert partial.attrs["status"] == "failed" and partial.time.values[-1] < 0.2
+    resumed = subprocess.run(_run_command(method, dx, output, (*extra, "--resume")), capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert not checkpoint.exists()  # a complete run leaves no checkpoint behind
+    settings = {"dx": dx, "progress": False, **({"ppc": 60, "seed": 4} if method == "dsmc" else {})}
+    whole = cases.run("sod", method, **settings)
+    result = read(output)
+    assert result.attrs["status"] == "ok" and result.attrs["n_steps"] == whole.attrs["n_steps"]
+    for name in whole.data_vars:
+        np.testing.assert_array_equal(result[name].values, whole[name].values, err_msg=name)
+
+
+def test_resume_refuses_a_missing_or_foreign_checkpoint(tmp_path):
+    scene = cases.get("sod", nx_out=50)
+    path = tmp_path / "a.checkpoint"
+    with pytest.raises(InputError, match="cannot resume: checkpoint .* does not exist"):
+        cases.run(scene, "fv", dx=0.02, checkpoint=path, resume=True, progress=False)
+    with pytest.raises(InputError, match="resume needs a checkpoint file"):
+        cases.run(scene, "dsmc", dx=0.02, resume=True, progress=False)
+    # a run that checkpoints every step leaves its last state; another setting may not resume from it
+    cases.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=1e-9, progress=False)
+    assert path.exists()
+    with pytest.raises(InputError, match="another scene, method or settings"):
+        cases.run(scene, "fv", dx=0.02, cfl=0.5, checkpoint=path, resume=True, progress=False)
+    with pytest.raises(InputError, match="checkpoint_every must be a finite number > 0"):
+        cases.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=0.0, progress=False)
