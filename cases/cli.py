@@ -144,7 +144,7 @@ def parser() -> argparse.ArgumentParser:
                    help="also write the last particle state beside the output, as <output>_particles.nc (sph)")
     r.add_argument("--checkpoint-every", type=float, dest="checkpoint_every", metavar="SECONDS",
                    help="save the run's state to <output>.checkpoint every SECONDS of wall time and on "
-                        "SIGINT/SIGTERM (fv, dsmc)")
+                        "SIGINT/SIGTERM")
     r.add_argument("--resume", action="store_true", help="continue from <output>.checkpoint")
     r.add_argument("--quiet", action="store_true")
     r.set_defaults(func=cmd_run)

@@ -23,6 +23,7 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
+from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import check_obstacles, choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
@@ -47,7 +48,8 @@ from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import in_box, reflect_into_fluid, virtual_state, walls
 
-SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles")
+SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles",
+            *CHECKPOINT_SETTINGS)
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: neighbour lists are built for this multiple of the predicted support; the
@@ -285,7 +287,8 @@ class GasSPH:
 
 
 def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
-          t_end=None, progress=True, particles=None, **unknown):
+          t_end=None, progress=True, particles=None, checkpoint=None, checkpoint_every=600.0, resume=False,
+          **unknown):
     """Run ``scene`` with compressible SPH.
 
     ``dx`` is the initial particle spacing in the densest gas (equal-mass
@@ -295,7 +298,11 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     conduction coefficient's switch. ``particles``: a path to write the particle snapshot of
     the last state to (SPEC §2; fluid, wall-virtual and buffer particles).
     Raises :class:`~cases.errors.SolverFailed` with the partial result if
-    the state turns non-physical or the run is interrupted.
+    the state turns non-physical or the run is interrupted. ``checkpoint``
+    is a file the state is saved to every ``checkpoint_every`` seconds and
+    on SIGINT or SIGTERM; ``resume`` continues from it
+    (:mod:`cases.checkpoint`; the neighbour lists are searched anew, so a
+    resumed run matches an uninterrupted one to round-off, not bit for bit).
     """
     if unknown:
         raise InputError(f"method sph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
@@ -332,74 +339,90 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     run.totals0 = _totals(P)
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t, t_sampled = 0.0, 0.0
-    bar = tqdm(total=t_end, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
+    ckpt = checkpoint_for(scene, "sph", settings, checkpoint, checkpoint_every, resume)
+    saved = ckpt.saved_state()
+    if saved is not None:
+        P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
+        run.restore(saved["run"])
+        run.reflections, run.totals0 = saved["reflections"], saved["totals0"]
+        sph.seconds, sph.searches, sph.force_interactions = saved["counters"]
+        sph.lists = None
+        if inflow:
+            inflow.columns = saved["inflow"]
+    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
-    try:
-        for t_out in out_times:
-            while t < t_out * (1 - 1e-14):
-                if run.n_steps % RESORT_STEPS == 0:
-                    # neighbours next to each other in memory: particles sorted cell by cell
-                    order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
-                    P, E = P.take(order), E.take(order)
-                    sph.renumber(order)
-                speed = E.vsig + np.linalg.norm(P.v, axis=1)
-                dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
-                # the step works on a copy: a failed step leaves P and E, the last consistent state
-                Q = dataclasses.replace(P)
-                v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
-                # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
-                Q.H = E.H * np.exp(dt * E.div_v / dim)
-                v_pred, u_pred = Q.v + dt * E.dvdt, Q.u + dt * E.dudt
-                Q.x = sph.wrap(Q.x + dt * v_half)
-                # the safeguard: a particle the walls did not stop is mirrored back into the fluid
-                Q.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, Q.x, v_half, v_pred)
-                run.reflections += reflected
-                if sph.wall is not None:
-                    Q.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, Q.x, v_half, v_pred)
+    with ckpt.watching_signals():
+        try:
+            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
+                while t < t_out * (1 - 1e-14):
+                    if run.n_steps % RESORT_STEPS == 0:
+                        # neighbours next to each other in memory: particles sorted cell by cell
+                        order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
+                        P, E = P.take(order), E.take(order)
+                        sph.renumber(order)
+                    speed = E.vsig + np.linalg.norm(P.v, axis=1)
+                    dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
+                    # the step works on a copy: a failed step leaves P and E, the last consistent state
+                    Q = dataclasses.replace(P)
+                    v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
+                    # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
+                    Q.H = E.H * np.exp(dt * E.div_v / dim)
+                    v_pred, u_pred = Q.v + dt * E.dvdt, Q.u + dt * E.dudt
+                    Q.x = sph.wrap(Q.x + dt * v_half)
+                    # the safeguard: a particle the walls did not stop is mirrored back into the fluid
+                    Q.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, Q.x, v_half, v_pred)
                     run.reflections += reflected
-                div_old = E.div_v
-                if inflow:
-                    # buffer particles that crossed the inlet join the fluid with the imposed state
-                    new = _entering(inflow, t, dt, eta, Q.m[0], alpha_min)
-                    Q.append(new)
-                    v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
-                    u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
-                    div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
-                stay = sph.retained(Q.x)
-                if not stay.all():
-                    Q.keep(stay)
-                    v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
-                try:
-                    E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
-                except FloatingPointError as err:
-                    raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
-                                      lambda: run.fields(P, E)) from None
-                v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
-                if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
-                    k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
-                    raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                      f"internal energy {u_new[k]:.3g} at x = {Q.x[k].round(6).tolist()} m.", t,
-                                      lambda: run.fields(P, E))
-                Q.alpha_u = conduction_switch(Q.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
-                Q.alpha = cullen_dehnen(Q.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
-                                        alpha_max, alpha_min)
-                Q.v, Q.u, Q.H, Q.rho = v_new, u_new, E_new.H, E_new.rho
-                P, E = Q, E_new
-                t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                run.n_steps += 1
-                bar.update(dt)
-                if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
-                    sampled = _pressure_at(sph, P, E, sample_points)
-                    run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
-                    t_sampled = t
-            run.add_frame(run.fields(P, E), t)
-    except KeyboardInterrupt:
-        raise run.failure(f"sph run of {scene.name} interrupted at t = {t:.6g} s after {run.n_steps} steps.", t,
-                          lambda: run.fields(P, E)) from None
-    finally:
-        bar.close()
-        if particles is not None:
-            write_particles(_snapshot(sph, P, inflow, t), particles)
+                    if sph.wall is not None:
+                        Q.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, Q.x, v_half, v_pred)
+                        run.reflections += reflected
+                    div_old = E.div_v
+                    if inflow:
+                        # buffer particles that crossed the inlet join the fluid with the imposed state
+                        new = _entering(inflow, t, dt, eta, Q.m[0], alpha_min)
+                        Q.append(new)
+                        v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
+                        u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
+                        div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
+                    stay = sph.retained(Q.x)
+                    if not stay.all():
+                        Q.keep(stay)
+                        v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
+                    try:
+                        E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
+                    except FloatingPointError as err:
+                        raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
+                                          lambda: run.fields(P, E)) from None
+                    v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
+                    if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
+                        k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
+                        raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
+                                          f"internal energy {u_new[k]:.3g} at x = {Q.x[k].round(6).tolist()} m.", t,
+                                          lambda: run.fields(P, E))
+                    Q.alpha_u = conduction_switch(Q.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
+                    Q.alpha = cullen_dehnen(Q.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
+                                            alpha_max, alpha_min)
+                    Q.v, Q.u, Q.H, Q.rho = v_new, u_new, E_new.H, E_new.rho
+                    P, E = Q, E_new
+                    t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                    run.n_steps += 1
+                    bar.update(dt)
+                    if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
+                        sampled = _pressure_at(sph, P, E, sample_points)
+                        run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
+                        t_sampled = t
+                    if ckpt.due():
+                        ckpt.save({"P": P, "E": E, "t": t, "t_sampled": t_sampled, "run": run.saved(),
+                                   "reflections": run.reflections, "totals0": run.totals0,
+                                   "counters": (sph.seconds, sph.searches, sph.force_interactions),
+                                   "inflow": inflow.columns if inflow else None})
+                        if ckpt.stop:
+                            raise run.failure(ckpt.stopped("sph", scene.name, t, run.n_steps), t,
+                                              lambda: run.fields(P, E))
+                run.add_frame(run.fields(P, E), t)
+        finally:
+            bar.close()
+            if particles is not None:
+                write_particles(_snapshot(sph, P, inflow, t), particles)
     run.totals = _totals(P)
     return run.dataset()
 
