@@ -8,7 +8,8 @@ the state is saved, and the run stops with its partial result
 with ``resume=True`` starts from the saved state; the solvers restore
 everything a step depends on, so the resumed run ends with the result an
 uninterrupted one gives: bit for bit for fv and dsmc (with its seed), to
-round-off for sph, which searches its neighbour lists anew.
+~1e-7 for sph, which searches its neighbour lists anew (its density solve,
+converged to 1e-8, then starts from other brackets).
 
 The file is a pickle of numpy arrays and plain values, written atomically
 (a temporary file renamed), tagged with the run's identity: the package

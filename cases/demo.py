@@ -44,11 +44,16 @@ def demo(folder: Path = Path("partmesh-demo"), progress: bool = True) -> Path:
                       f"(+{ds.attrs['compile_seconds']:.2f} s compile)")
         report = folder / case
         reference = scene.exact(runs[0].time.values)
+        finest = min(range(len(runs)), key=lambda i: runs[i].attrs["dx"])
         if reference is None:
-            finest = min(range(len(runs)), key=lambda i: runs[i].attrs["dx"])
             reference = runs[finest]
         df = table(runs, reference, names)
         write_table(df, report)
+        t_last = float(runs[0].time[-1])
+        versus = "exact" if case == "sod" else f"the finest {runs[finest].attrs['method']} run"
+        title = f"{case}: L1 density error against {versus} at t = {t_last:.4g} s"
+        plots.speed_versus_error(df, "rho_L1", report / "speed_versus_error.png", title)
+        plots.convergence(df, "rho_L1", report / "convergence.png", title)
         if case == "sod":
             for field in ("rho", "u", "p"):
                 plots.profiles(runs, field, report / f"{field}.png", reference=reference, names=names)

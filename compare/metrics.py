@@ -474,23 +474,30 @@ def _fraction(name: str, x) -> float:
 
 
 def _arrival(t, v, baseline, threshold_fraction) -> tuple[float, int]:
-    """Arrival time and the index of the first sample above the level."""
+    """Arrival time and the index of the first sample of the rise: the
+    last sample before the maximum to cross the level from below."""
     vmax = float(v.max())
     if not vmax > baseline:
         raise ValueError(f"baseline={baseline:g} must lie below the series maximum {vmax:g}.")
     level = baseline + threshold_fraction * (vmax - baseline)
-    i = int(np.argmax(v > level))
-    if i == 0:
+    top = int(np.argmax(v))
+    below = np.flatnonzero(v[: top + 1] <= level)
+    if below.size == 0:
         return float(t[0]), 0
+    i = int(below[-1]) + 1
     ta = t[i - 1] + (level - v[i - 1]) * (t[i] - t[i - 1]) / (v[i] - v[i - 1])
     return float(ta), i
 
 
 def arrival_time(series: xr.DataArray, baseline: float, threshold_fraction: float = 0.05) -> float:
-    """First time a probe series rises above baseline + f (max − baseline).
+    """The time a probe series rises above baseline + f (max − baseline) for
+    good: its last upward crossing of that level before its maximum, so a
+    noise spike ahead of the front (a particle method's scatter) does not
+    count; for a clean front, the first crossing.
 
     With level = baseline + f (max_t v − baseline), f = ``threshold_fraction``,
-    and i the first sample with v_i > level,
+    and i the first sample after the last one at or below the level before
+    the maximum,
 
         t_a = t_{i−1} + (level − v_{i−1}) (t_i − t_{i−1}) / (v_i − v_{i−1}),
 

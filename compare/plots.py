@@ -1,6 +1,8 @@
-"""Figures of runs of one scene: profiles against a reference and probe
-series overlaid. Every figure names the scene and time in its title, puts
-units on its axes and a legend entry on every line."""
+"""Figures of runs of one scene: profiles against a reference, probe
+series overlaid, error against cost (speed versus error, with the Pareto
+front) and error against resolution (convergence, with the observed
+order). Every figure names the scene and time in its title, puts units on
+its axes and a legend entry on every line."""
 
 from __future__ import annotations
 
@@ -10,7 +12,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: E402
 import xarray as xr  # noqa: E402
+
+from compare.convergence import observed_order  # noqa: E402
+from compare.report import pareto_front  # noqa: E402
 
 
 def _label(ds: xr.Dataset, name: str | None = None) -> str:
@@ -59,6 +66,53 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     ax.set_title(f"{runs[0].attrs['case']}: {first.attrs.get('long_name', var)}{where}", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def speed_versus_error(df, error: str, path, title: str) -> Path:
+    """``error`` (a column of a :func:`compare.report.table`) against wall
+    time, log–log, one line per method through its resolutions, the Pareto
+    front (no run both faster and more accurate) drawn and its runs ringed."""
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    rows = df[(df[error] > 0) & np.isfinite(df["wall_seconds"])]  # (a reference run's own error, 0, has no place)
+    for method, group in rows.groupby("method", sort=False):
+        group = group.sort_values("wall_seconds")
+        ax.plot(group["wall_seconds"], group[error], "o-", label=method)
+    front = rows[pareto_front(rows["wall_seconds"], rows[error])].sort_values("wall_seconds")
+    ax.step(front["wall_seconds"], front[error], "k--", where="post", lw=0.8, label="Pareto front")
+    ax.plot(front["wall_seconds"], front[error], "o", ms=11, mfc="none", mec="k")
+    return _save_log_log(fig, ax, "wall time [s]", error, title, path)
+
+
+def convergence(df, error: str, path, title: str) -> Path:
+    """``error`` against ``dx``, log–log, one line per method, its observed
+    order (least-squares slope) in the legend where it has ≥ 2 levels."""
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    rows = df[df[error] > 0]
+    for method, group in rows.groupby("method", sort=False):
+        group = group.sort_values("dx")
+        label = method
+        if group["dx"].nunique() >= 2:
+            label += f" (order {observed_order(group['dx'], group[error]):.2f})"
+        ax.plot(group["dx"], group[error], "o-", label=label)
+    return _save_log_log(fig, ax, "cell size or particle spacing dx [m]", error, title, path)
+
+
+def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
+    """Finish an error plot: log–log axes labelled with plain numbers at 1,
+    2 and 5 times the powers of ten, the error column ('rho_L1') named as
+    'L1 error of rho', title, legend, grid; save it."""
+    for axis, scale in ((ax.xaxis, ax.set_xscale), (ax.yaxis, ax.set_yscale)):
+        scale("log")
+        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+        axis.set_minor_formatter(NullFormatter())
+    field, _, norm = error.rpartition("_")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(f"{norm} error of {field}")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
     return _save(fig, path)
 
 

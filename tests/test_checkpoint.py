@@ -1,8 +1,8 @@
 """Checkpoint and resume (cases.checkpoint; ``partmesh run --checkpoint-every
 --resume``): a run stopped by SIGTERM or SIGINT saves its state and its
 partial result, and the resumed run ends with the uninterrupted run's
-result, bit for bit (fv, dsmc) or to round-off (sph, whose neighbour lists
-are searched anew)."""
+result, bit for bit (fv, dsmc) or to the density solve's tolerance (sph,
+whose neighbour lists are searched anew)."""
 
 import signal
 import subprocess
@@ -49,8 +49,10 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, method, dx,
     result = read(output)
     assert result.attrs["status"] == "ok" and result.attrs["n_steps"] == whole.attrs["n_steps"]
     for name in whole.data_vars:
-        if method == "sph":  # another summation order from the resumed run's first search on
-            np.testing.assert_allclose(result[name].values, whole[name].values, rtol=1e-9, atol=1e-9, err_msg=name)
+        if method == "sph":
+            # the resumed run searches its lists anew: the density solve (converged to 1e-8 in H) starts from
+            # other brackets, and the steps after carry the difference (1.6e-7 measured)
+            np.testing.assert_allclose(result[name].values, whole[name].values, rtol=1e-5, atol=1e-5, err_msg=name)
         else:
             np.testing.assert_array_equal(result[name].values, whole[name].values, err_msg=name)
 

@@ -208,6 +208,16 @@ def test_arrival_time_on_a_ramp():
         arrival_time(xr.DataArray(np.ones((3, 2)), dims=("t_probe", "probe")), 0.0)
 
 
+def test_arrival_time_ignores_a_noise_spike_ahead_of_the_front():
+    # a step from 1 to 11 at t = 2.0 (crossing the 5 % level 1.5 between samples 2.0 and 2.1), with a spike to 3
+    # at t = 0.5 and a dip behind the peak: the front's own crossing counts, not the spike's
+    t = np.linspace(0, 3, 31)
+    v = np.where(t > 2.05, 11.0, 1.0)
+    v[5] = 3.0
+    v[-3] = 1.2
+    assert arrival_time(series(t, v), 1.0) == pytest.approx(2.0 + 0.5 / 10.0 * 0.1, abs=1e-12)
+
+
 # A Friedlander overpressure P (1 - tau/T) exp(-alpha tau/T), tau = t - ta,
 # sampled every dt with a sample exactly at the arrival (value P) and the one
 # before it at the baseline.

@@ -301,8 +301,9 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     the state turns non-physical or the run is interrupted. ``checkpoint``
     is a file the state is saved to every ``checkpoint_every`` seconds and
     on SIGINT or SIGTERM; ``resume`` continues from it
-    (:mod:`cases.checkpoint`; the neighbour lists are searched anew, so a
-    resumed run matches an uninterrupted one to round-off, not bit for bit).
+    (:mod:`cases.checkpoint`; the neighbour lists are searched anew, so the
+    density solve, converged to 1e-8 in H, starts from other brackets and a
+    resumed run matches an uninterrupted one to ~1e-7, not bit for bit).
     """
     if unknown:
         raise InputError(f"method sph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
