@@ -13,9 +13,8 @@ from pathlib import Path
 from cases.errors import Unsupported
 from cases.registry import get
 from cases.run import methods, run
-from compare import plots
 from compare.io import write
-from compare.report import table, write_table
+from compare.report import report
 
 #: method -> cell sizes (coarse, fine) per scene
 RESOLUTIONS = {"sod": (5e-3, 2.5e-3), "blast_wall": (2e-3, 1e-3)}
@@ -42,25 +41,12 @@ def demo(folder: Path = Path("partmesh-demo"), progress: bool = True) -> Path:
                 names.append(f"{method} dx={dx:g}")
                 print(f"  {name}: {ds.attrs['n_steps']} steps in {ds.attrs['wall_seconds']:.2f} s "
                       f"(+{ds.attrs['compile_seconds']:.2f} s compile)")
-        report = folder / case
         reference = scene.exact(runs[0].time.values)
-        finest = min(range(len(runs)), key=lambda i: runs[i].attrs["dx"])
+        versus = "exact"
         if reference is None:
-            reference = runs[finest]
-        df = table(runs, reference, names)
-        write_table(df, report)
-        t_last = float(runs[0].time[-1])
-        versus = "exact" if case == "sod" else f"the finest {runs[finest].attrs['method']} run"
-        title = f"{case}: L1 density error against {versus} at t = {t_last:.4g} s"
-        plots.speed_versus_error(df, "rho_L1", report / "speed_versus_error.png", title)
-        plots.convergence(df, "rho_L1", report / "convergence.png", title)
-        if case == "sod":
-            for field in ("rho", "u", "p"):
-                plots.profiles(runs, field, report / f"{field}.png", reference=reference, names=names)
-        else:
-            plots.series(runs, "p_probe", report / "wall_pressure.png", probe="w", names=names, scale=1e3, unit="ms")
-            plots.series(runs, "wall_impulse", report / "wall_impulse.png", names=names, scale=1e3, unit="ms")
-            plots.profiles(runs, "p", report / "pressure_profile.png", names=names, time=1.7e-3)
+            finest = min(range(len(runs)), key=lambda i: runs[i].attrs["dx"])
+            reference, versus = runs[finest], f"the finest run ({names[finest]})"
+        df = report(runs, reference, names, folder / case, versus=versus)
         cols = [c for c in ("run", "method", "dx", "wall_seconds", "rho_L1", "p_L1", "wall_peak_pressure_fitted",
                             "wall_impulse_final") if c in df]
         print(df[cols].to_string(index=False))

@@ -17,6 +17,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: 
 import xarray as xr  # noqa: E402
 
 from compare.convergence import observed_order  # noqa: E402
+from compare.metrics import schlieren  # noqa: E402
 from compare.report import pareto_front  # noqa: E402
 
 
@@ -98,6 +99,71 @@ def convergence(df, error: str, path, title: str) -> Path:
     return _save_log_log(fig, ax, "cell size or particle spacing dx [m]", error, title, path)
 
 
+def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None) -> Path:
+    """2D maps of ``field`` at ``time`` (default: the last output time), one
+    panel per run on one colour scale (the reference first, if given), and
+    under them each run minus the reference on one symmetric scale."""
+    names = names or [None] * len(runs)
+    t = float(runs[0].time[-1]) if time is None else time
+    maps = [ds[field].sel(time=t, method="nearest") for ds in runs]
+    ref = reference[field].sel(time=t, method="nearest") if reference is not None else None
+    shown = ([ref] if ref is not None else []) + maps
+    ref_name = "exact" if reference is not None and reference.attrs.get("method") == "exact" else "reference"
+    titles = ([ref_name] if ref is not None else []) + [_label(ds, n) for ds, n in zip(runs, names)]
+    lo = min(float(np.nanmin(m)) for m in shown)
+    hi = max(float(np.nanmax(m)) for m in shown)
+    rows = 2 if ref is not None else 1
+    fig, axes = plt.subplots(rows, len(shown), figsize=(3.2 * len(shown) + 1.2, 3.1 * rows + 0.5), squeeze=False,
+                             layout="constrained")
+    var = runs[0][field]
+    unit = var.attrs.get("units", "")
+    for ax, m, title in zip(axes[0], shown, titles):
+        image = ax.pcolormesh(m.x, m.y, m, vmin=lo, vmax=hi, shading="nearest", cmap="viridis")
+        ax.set_title(title, fontsize=8)
+    fig.colorbar(image, ax=list(axes[0]), label=f"{field} [{unit}]", shrink=0.9)
+    if ref is not None:
+        differences = [m - ref for m in maps]
+        limit = max(float(np.nanmax(np.abs(d))) for d in differences) or 1.0
+        axes[1, 0].axis("off")
+        for ax, d, title in zip(axes[1, 1:], differences, titles[1:]):
+            image = ax.pcolormesh(d.x, d.y, d, vmin=-limit, vmax=limit, shading="nearest", cmap="RdBu_r")
+            ax.set_title(f"{title}\nminus {ref_name}", fontsize=8)
+        fig.colorbar(image, ax=list(axes[1]), label=f"difference in {field} [{unit}]", shrink=0.9)
+    _map_axes(axes)
+    if ref is not None:
+        axes[1, 1].set_ylabel("y [m]", fontsize=8)
+    fig.suptitle(f"{runs[0].attrs['case']}: {var.attrs.get('long_name', field)} at t = {t:.4g} s", fontsize=10)
+    return _save(fig, path, tight=False)
+
+
+def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0) -> Path:
+    """Numerical schlieren (:func:`compare.metrics.schlieren`) of every run's
+    density at ``time`` (default: the last output time), side by side."""
+    names = names or [None] * len(runs)
+    t = float(runs[0].time[-1]) if time is None else time
+    fig, axes = plt.subplots(1, len(runs), figsize=(3.2 * len(runs) + 0.4, 3.5), squeeze=False, layout="constrained")
+    for ax, ds, name in zip(axes[0], runs, names):
+        shade = schlieren(ds["rho"].sel(time=t, method="nearest"), k=k)
+        ax.pcolormesh(shade.x, shade.y, shade, vmin=0.0, vmax=1.0, shading="nearest", cmap="gray")
+        ax.set_title(_label(ds, name), fontsize=8)
+    _map_axes(axes)
+    fig.suptitle(f"{runs[0].attrs['case']}: numerical schlieren exp(-{k:g} |grad rho| / max) at t = {t:.4g} s",
+                 fontsize=10)
+    return _save(fig, path, tight=False)
+
+
+def _map_axes(axes) -> None:
+    """Equal-aspect map panels, x labelled on every panel, y on the first
+    column."""
+    for (row, col), ax in np.ndenumerate(axes):
+        ax.set_aspect("equal")
+        ax.locator_params(nbins=5)
+        ax.set_xlabel("x [m]", fontsize=8)
+        if col == 0:
+            ax.set_ylabel("y [m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+
+
 def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
     """Finish an error plot: log–log axes labelled with plain numbers at 1,
     2 and 5 times the powers of ten, the error column ('rho_L1') named as
@@ -116,10 +182,11 @@ def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
     return _save(fig, path)
 
 
-def _save(fig, path) -> Path:
+def _save(fig, path, tight: bool = True) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path

@@ -99,9 +99,46 @@ def pareto_front(seconds, errors) -> np.ndarray:
 
 
 def write_table(df: pd.DataFrame, folder: str | Path) -> Path:
-    """Write ``summary.csv`` and ``summary.json`` into ``folder``."""
+    """Write ``summary.csv``, ``summary.json`` and ``summary.nc`` (the table
+    as a Dataset on the dimension ``run``) into ``folder``."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     df.to_csv(folder / "summary.csv", index=False)
     (folder / "summary.json").write_text(json.dumps(df.to_dict(orient="records"), indent=2, default=float))
+    table_ds = xr.Dataset({c: ("run", df[c].to_numpy(dtype=str if df[c].dtype == object else None)) for c in df})
+    table_ds.to_netcdf(folder / "summary.nc")
     return folder
+
+
+def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str], folder: str | Path,
+           versus: str = "the reference") -> pd.DataFrame:
+    """The table of :func:`table` (written by :func:`write_table`) and the
+    figures of the runs into ``folder``: profiles (1D) or field maps with
+    difference maps and numerical schlieren (2D), probe histories, wall
+    force and impulse where the scene has them, and, against a reference,
+    speed versus error and convergence of the L1 density error (``versus``
+    names the reference in their titles)."""
+    from compare import plots
+
+    folder = Path(folder)
+    df = table(runs, reference, names)
+    write_table(df, folder)
+    first = runs[0]
+    if "y" in first.dims:
+        for field in (f for f in ("rho", "p") if f in first):
+            plots.field_maps(runs, field, folder / f"{field}_maps.png", reference=reference, names=names)
+        plots.schlieren_maps(runs, folder / "schlieren.png", names=names)
+    else:
+        for field in (f for f in ("rho", "u", "p") if f in first):
+            plots.profiles(runs, field, folder / f"{field}.png", reference=reference, names=names)
+    if "p_probe" in first:
+        for probe in first.probe.values:
+            plots.series(runs, "p_probe", folder / f"probe_{probe}.png", probe=str(probe), names=names,
+                         scale=1e3, unit="ms")
+    for var in (v for v in ("wall_force", "wall_impulse") if v in first):
+        plots.series(runs, var, folder / f"{var}.png", names=names, scale=1e3, unit="ms")
+    if reference is not None and "rho_L1" in df and (df["rho_L1"] > 0).any():
+        title = f"{first.attrs['case']}: L1 density error against {versus} at t = {df['error_time'].max():.4g} s"
+        plots.speed_versus_error(df, "rho_L1", folder / "speed_versus_error.png", title)
+        plots.convergence(df, "rho_L1", folder / "convergence.png", title)
+    return df

@@ -83,6 +83,20 @@ def test_compare_against_exact_writes_the_independent_error(workdir, sod_file):
     assert rows[0]["rho_L1"] == pytest.approx(expected, rel=1e-9)
     assert csv["rho_L1"].iloc[0] == pytest.approx(expected, rel=1e-9)
     assert rows[0]["method"] == "fv"
+    with xr.open_dataset(rep / "summary.nc") as table:  # the table as a Dataset on 'run'
+        assert table["rho_L1"].values[0] == pytest.approx(expected, rel=1e-9) and str(table["method"].values[0]) == "fv"
+
+
+def test_compare_a_2d_point_blast_against_its_exact_solution(workdir, sedov_file):
+    # the scene's output times start at t = 0, where a point blast has no similarity solution: compared at 0.05
+    done = cli("compare", "tmp/sedov.nc", "-o", "tmp/rep_sedov", cwd=workdir)
+    assert done.returncode == 0, done.stderr
+    rows = json.loads((workdir / "tmp" / "rep_sedov" / "summary.json").read_text())
+    with xr.open_dataset(sedov_file, engine="netcdf4") as ds:
+        rho = ds.rho.isel(time=-1).values
+    exact = cases.get("sedov", n_out=32, E=2.0, t_end=0.05).exact([0.05]).rho.isel(time=0).values
+    assert rows[0]["error_time"] == pytest.approx(0.05)
+    assert rows[0]["rho_L1"] == pytest.approx(float(np.mean(np.abs(rho - exact))), rel=1e-9)
 
 
 def test_compare_against_a_reference_file(workdir, sod_file):

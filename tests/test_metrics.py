@@ -366,3 +366,20 @@ def test_conservation_drift():
         conservation_drift([1.0, np.nan])
     with pytest.raises(ValueError, match="totals"):
         conservation_drift([])
+
+
+def test_schlieren_of_a_linear_ramp_and_a_kink_by_hand():
+    from compare.metrics import schlieren
+
+    x, y = np.linspace(0.0, 1.0, 11), np.linspace(0.0, 0.5, 6)
+    # ρ = 1 + 2x for x ≤ 0.5, then 2 + 4 (x − 0.5): |∇ρ| = 2 on the left, 4 on the right, 3 at the kink
+    rho = np.where(x <= 0.5, 1.0 + 2.0 * x, 2.0 + 4.0 * (x - 0.5))
+    field = xr.DataArray(np.tile(rho, (y.size, 1)), coords={"y": y, "x": x}, dims=("y", "x"))
+    s = schlieren(field, k=2.0).values
+    np.testing.assert_allclose(s[:, :5], np.exp(-2.0 * 2.0 / 4.0), rtol=1e-12)
+    np.testing.assert_allclose(s[:, 5], np.exp(-2.0 * 3.0 / 4.0), rtol=1e-12)
+    np.testing.assert_allclose(s[:, 6:], np.exp(-2.0), rtol=1e-12)
+    field[2, 3] = np.nan  # a solid cell: NaN there and beside it, the rest unchanged
+    assert np.isnan(schlieren(field, k=2.0).values[2, 3])
+    with pytest.raises(ValueError, match="2D field on"):
+        schlieren(field.isel(y=0))
