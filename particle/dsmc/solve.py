@@ -159,6 +159,8 @@ def _compile_kernels(dim, zeta, collisions):
         collide(v, e, start, np.ones(1), 1.0, 1.0, 1.0, 0.74, 5.0, zeta, 0, 0, np.ones(1), np.zeros(1),
                 np.zeros((1, 3)), np.zeros(1))
     cell_index(x, lo, spacing, shape)
+    one = np.ones(1)
+    particles_in_cells(lo, spacing, shape, one, 0.0 * one, 0.0 * one, one, 1.0, zeta, 0, 0, 0)
     if dim == 2:
         polygons = obstacle_polygons([_UNIT_SQUARE], 1.0)
         fly_past_obstacles(x, v, 0.0, *polygons)
@@ -185,7 +187,7 @@ class _Gas:
         self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
         self.initial_fields = (rho, u, v, p)  # the scene's initial state per cell: far field of an outflow
         self.ncell = int(np.prod(self.shape))
-        flat = [np.ascontiguousarray(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]
+        flat = [np.array(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]  # (writable: one kernel signature)
         self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
                                                     *flat, self.mass, zeta, seed, 0, self.ncell)
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
