@@ -39,7 +39,9 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
     fig, ax = plt.subplots(figsize=(7, 4.2))
     if reference is not None:
         ref = reference[field].sel(time=t, method="nearest")
-        ax.plot(reference.x, ref, "k-", lw=1.2, label="exact" if reference.attrs["method"] == "exact" else "reference")
+        # on top of the runs: a particle method's scatter would hide it
+        ax.plot(reference.x, ref, "k-", lw=1.4, zorder=10,
+                label="exact" if reference.attrs["method"] == "exact" else "reference")
     for ds, name in zip(runs, names):
         ax.plot(ds.x, ds[field].sel(time=t, method="nearest"), ".-", ms=3, lw=0.8, label=_label(ds, name))
     var = runs[0][field]
