@@ -47,9 +47,11 @@ class Checkpoint:
         self.stop = None  # the name of the signal that asked the run to stop
         self._last = time.perf_counter()
 
-    def saved_state(self):
-        """The state saved by an earlier run with the same identity, or None
-        if not resuming; refuses a missing file or another run's."""
+    def saved_state(self, run):
+        """The solver state saved by an earlier run with the same identity,
+        with the run's record (a :class:`cases.history.RunRecord`) restored
+        from it; None if not resuming. Refuses a missing file or another
+        run's."""
         if not self.resume:
             return None
         if not self.path.is_file():
@@ -59,7 +61,20 @@ class Checkpoint:
         if saved.get("identity") != self.identity:
             raise InputError(f"cannot resume: checkpoint {str(self.path)!r} was written by a run of another scene, "
                              f"method or settings.")
+        run.restore(saved["state"]["run"])
         return saved["state"]
+
+    def step_done(self, run, t: float, state, frame) -> None:
+        """Between two steps, at time ``t``: save the solver's ``state()``
+        (a dict) with the run's record when due; after a signal, stop the
+        run with its partial result (``frame()``: the fields at ``t``)."""
+        if not self.due():
+            return
+        self.save({**state(), "run": run.saved()})
+        if self.stop is not None:
+            where = f"; resume it from {str(self.path)!r}" if self.path is not None else ""
+            raise run.failure(f"{run.method} run of {run.scene.name} stopped by {self.stop} at t = {t:.6g} s after "
+                              f"{run.n_steps} steps{where}.", t, frame)
 
     def due(self) -> bool:
         """Whether to save now: a signal arrived, or ``every`` seconds passed."""
@@ -79,11 +94,6 @@ class Checkpoint:
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
-
-    def stopped(self, method: str, scene: str, t: float, n_steps: int) -> str:
-        """The sentence a run stopped by a signal ends with."""
-        where = f"; resume it from {str(self.path)!r}" if self.path is not None else ""
-        return f"{method} run of {scene} stopped by {self.stop} at t = {t:.6g} s after {n_steps} steps{where}."
 
     @contextmanager
     def watching_signals(self):

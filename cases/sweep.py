@@ -89,12 +89,13 @@ def solver_settings(method: str) -> set:
 
 def finished(path: str | Path) -> bool:
     """Whether ``path`` holds a complete partmesh result (a readable file
-    whose ``status`` is ``"ok"``)."""
-    from compare.io import read
+    whose ``status`` is ``"ok"``; its data are not read)."""
+    from compare.io import opened
     from compare.schema import SchemaError
 
     try:
-        return read(path).attrs.get("status") == "ok"
+        with opened(path) as ds:
+            return ds.attrs.get("status") == "ok"
     except (FileNotFoundError, SchemaError):
         return False
 
@@ -116,8 +117,9 @@ def sweep(case: str, methods, dx=(None,), values: dict | None = None, output: st
     runs = plan(case, methods, dx, values)
     scene_keys = set(defaults(case))
     settings = dict(settings or {})
+    takes = {m: solver_settings(m) for m in methods}
     for key in settings:
-        if not any(key in solver_settings(m) for m in methods):
+        if not any(key in keys for keys in takes.values()):
             raise InputError(f"{key!r} is not a setting of {', '.join(methods)}.")
     for run in runs:  # a bad scene parameter is refused before anything runs
         _scene(run, scene_keys)
@@ -139,7 +141,7 @@ def sweep(case: str, methods, dx=(None,), values: dict | None = None, output: st
         with dask_client(scheduler, n_workers) as client, \
                 tqdm(total=len(todo), disable=None if progress else True, desc=f"sweep {case}", unit="run") as bar:
             futures = [client.submit(_run_and_write, run, str(path), sorted(scene_keys),
-                                     {k: v for k, v in settings.items() if k in solver_settings(run.method)},
+                                     {k: v for k, v in settings.items() if k in takes[run.method]},
                                      threads, pure=False) for run, path in todo]
             for future in as_completed(futures):
                 records.append(future.result())

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import xarray as xr
@@ -47,20 +48,32 @@ def _write_atomically(ds: xr.Dataset, path) -> Path:
     return path
 
 
-def read(path: str | os.PathLike) -> xr.Dataset:
-    """Read a partmesh result into memory; refuse, with one sentence, a file
-    that is missing, not netCDF, or not a partmesh result."""
+@contextmanager
+def opened(path: str | os.PathLike):
+    """A partmesh result opened lazily (only its coordinates and attributes
+    are read until data are asked for), closed on exit; refuses, with one
+    sentence, a file that is missing, not netCDF, or not a partmesh result."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"result file {str(path)!r} does not exist.")
     try:
-        with xr.open_dataset(path, engine="netcdf4") as ds:
-            ds = ds.load()
+        ds = xr.open_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as err:
         raise SchemaError(f"{str(path)!r} is not a readable netCDF file ({err}).") from None
-    if "partmesh_version" not in ds.attrs:
-        raise SchemaError(f"{str(path)!r} is not a partmesh result (it has no 'partmesh_version' attribute).")
-    try:
-        return validate(ds)
-    except SchemaError as err:
-        raise SchemaError(f"{str(path)!r} is a damaged partmesh result: {err}") from None
+    with ds:
+        if "partmesh_version" not in ds.attrs:
+            raise SchemaError(f"{str(path)!r} is not a partmesh result (it has no 'partmesh_version' attribute).")
+        try:
+            validate(ds)
+        except SchemaError as err:
+            raise SchemaError(f"{str(path)!r} is a damaged partmesh result: {err}") from None
+        yield ds
+
+
+def read(path: str | os.PathLike) -> xr.Dataset:
+    """A partmesh result read into memory (checked as :func:`opened` checks it)."""
+    with opened(path) as ds:
+        try:
+            return ds.load()
+        except (OSError, ValueError) as err:
+            raise SchemaError(f"{str(path)!r} is not a readable netCDF file ({err}).") from None

@@ -27,6 +27,10 @@ def _label(ds: xr.Dataset, name: str | None = None) -> str:
     return f"{ds.attrs['method']} (dx = {ds.attrs['dx']:.3g} m, {ds.attrs['n_elements']} elements)"
 
 
+def _reference_name(reference: xr.Dataset) -> str:
+    return "exact" if reference.attrs.get("method") == "exact" else "reference"
+
+
 def _axis_label(var: xr.DataArray) -> str:
     return f"{var.attrs.get('long_name', var.name)} [{var.attrs.get('units', '')}]"
 
@@ -40,8 +44,7 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
     if reference is not None:
         ref = reference[field].sel(time=t, method="nearest")
         # on top of the runs: a particle method's scatter would hide it
-        ax.plot(reference.x, ref, "k-", lw=1.4, zorder=10,
-                label="exact" if reference.attrs["method"] == "exact" else "reference")
+        ax.plot(reference.x, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
     for ds, name in zip(runs, names):
         ax.plot(ds.x, ds[field].sel(time=t, method="nearest"), ".-", ms=3, lw=0.8, label=_label(ds, name))
     var = runs[0][field]
@@ -110,7 +113,7 @@ def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, name
     maps = [ds[field].sel(time=t, method="nearest") for ds in runs]
     ref = reference[field].sel(time=t, method="nearest") if reference is not None else None
     shown = ([ref] if ref is not None else []) + maps
-    ref_name = "exact" if reference is not None and reference.attrs.get("method") == "exact" else "reference"
+    ref_name = _reference_name(reference) if reference is not None else None
     titles = ([ref_name] if ref is not None else []) + [_label(ds, n) for ds, n in zip(runs, names)]
     lo = min(float(np.nanmin(m)) for m in shown)
     hi = max(float(np.nanmax(m)) for m in shown)

@@ -104,10 +104,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
-    saved = ckpt.saved_state()
+    saved = ckpt.saved_state(run)
     if saved is not None:
         U, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["U"]), saved["t"], saved["dt_cfl"]
-        run.restore(saved["run"])
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
     with ckpt.watching_signals():
@@ -131,11 +130,8 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
                     t = t_new
                     if run.n_steps % 50 == 0:
                         bar.set_postfix_str(f"{run.n_steps} steps")
-                    if ckpt.due():
-                        ckpt.save({"U": jax.tree_util.tree_map(np.asarray, U), "t": t, "dt_cfl": dt_cfl,
-                                   "run": run.saved()})
-                        if ckpt.stop:
-                            raise run.failure(ckpt.stopped("fv", scene.name, t, run.n_steps), t, lambda: run.fields(U))
+                    ckpt.step_done(run, t, lambda: {"U": jax.tree_util.tree_map(np.asarray, U), "t": t,
+                                                    "dt_cfl": dt_cfl}, lambda: run.fields(U))
                 run.add_frame(run.fields(U), t)
         finally:
             bar.close()

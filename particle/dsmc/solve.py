@@ -115,11 +115,10 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
     t = 0.0
     frame = gas.output_sums()
     ckpt = checkpoint_for(scene, "dsmc", settings, checkpoint, checkpoint_every, resume)
-    saved = ckpt.saved_state()
+    saved = ckpt.saved_state(run)
     if saved is not None:
         t, frame = saved["t"], saved["frame"]
         gas.restore(saved["gas"])
-        run.restore(saved["run"])
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"dsmc {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
     with ckpt.watching_signals():
@@ -133,11 +132,8 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
                     bar.update(dt)
                     if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
                         gas.sample_into(frame)
-                    if ckpt.due():
-                        ckpt.save({"t": t, "frame": frame, "gas": gas.saved(), "run": run.saved()})
-                        if ckpt.stop:
-                            raise run.failure(ckpt.stopped("dsmc", scene.name, t, run.n_steps), t,
-                                              lambda: run.fields(gas.snapshot()))
+                    ckpt.step_done(run, t, lambda: {"t": t, "frame": frame, "gas": gas.saved()},
+                                   lambda: run.fields(gas.snapshot()))
                 if frame.samples == 0:  # an output time with no step before it (t = 0)
                     gas.sample_into(frame)
                 run.add_frame(run.fields(frame), t)
@@ -193,6 +189,7 @@ class _Gas:
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
         self.vhs = None  # (F_N σ_ref, g_ref, ω, Z_rot) under true collisions
+        self.sigma_g_max = None  # their (F_N σg)_max per cell
         self.collisions = 0
         self._spare = None  # buffers the next cell sort writes into
         self._outflow = {}  # side -> running moments of the cells next to an outflow
@@ -215,15 +212,14 @@ class _Gas:
         outflow's running boundary moments, the collision maxima, the
         counters."""
         return {"x": self.x, "v": self.v, "e": self.e, "cells": self.cells, "state": self.state,
-                "outflow": self._outflow, "sigma_g_max": getattr(self, "sigma_g_max", None),
+                "outflow": self._outflow, "sigma_g_max": self.sigma_g_max,
                 "counters": (self.safeguard, self.bounces, self.collisions)}
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
         self.x, self.v, self.e = saved["x"], saved["v"], saved["e"]
         self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
-        if saved["sigma_g_max"] is not None:
-            self.sigma_g_max = saved["sigma_g_max"]
+        self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
         self._spare = None
 
@@ -238,9 +234,12 @@ class _Gas:
         ref = int(np.argmin(rho))
         g_ref = 4.0 * np.sqrt(p[ref] / rho[ref] / np.pi)
         sigma = self.mass / (np.sqrt(2.0) * rho[ref] * mean_free_path)
+        def sigma_g(g):  # F_N σ(g) g of VHS molecules
+            return sigma * g * (g / g_ref) ** (1.0 - 2.0 * omega)
+
         # collisions per particle per step, n σ(g) ⟨g⟩ Δt, at the initial state of every cell
         g_mean = 4.0 * np.sqrt(p / rho / np.pi)
-        rate = rho / self.mass * sigma * g_mean * (g_mean / g_ref) ** (1.0 - 2.0 * omega)
+        rate = rho / self.mass * sigma_g(g_mean)
         per_step = float(np.max(rate)) * cfl * self.dx / self.signal_speed()
         if per_step > MAX_COLLISIONS_PER_STEP:
             shortest = mean_free_path * per_step / MAX_COLLISIONS_PER_STEP
@@ -250,8 +249,7 @@ class _Gas:
                              f"mean_free_path >= {shortest:.3g} m.")
         self.vhs = (float(sigma), float(g_ref), float(omega), float(z_rot))
         # (F_N σg)_max per cell starts at twice the mean relative speed of the densest initial state, then adapts
-        self.sigma_g_max = np.full(self.ncell, float(np.max(sigma * 2.0 * g_mean * (2.0 * g_mean / g_ref)
-                                                            ** (1.0 - 2.0 * omega))))
+        self.sigma_g_max = np.full(self.ncell, float(np.max(sigma_g(2.0 * g_mean))))
 
     def totals(self) -> tuple[float, float]:
         """Mass and energy (translational and internal) of all particles."""

@@ -355,10 +355,9 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t, t_sampled = 0.0, 0.0
     ckpt = checkpoint_for(scene, "sph", settings, checkpoint, checkpoint_every, resume)
-    saved = ckpt.saved_state()
+    saved = ckpt.saved_state(run)
     if saved is not None:
         P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
-        run.restore(saved["run"])
         run.reflections, run.totals0 = saved["reflections"], saved["totals0"]
         sph.seconds, sph.searches, sph.force_interactions = saved["counters"]
         sph.lists = None
@@ -425,14 +424,11 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         sampled = _pressure_at(sph, P, E, sample_points)
                         run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
                         t_sampled = t
-                    if ckpt.due():
-                        ckpt.save({"P": P, "E": E, "t": t, "t_sampled": t_sampled, "run": run.saved(),
-                                   "reflections": run.reflections, "totals0": run.totals0,
-                                   "counters": (sph.seconds, sph.searches, sph.force_interactions),
-                                   "inflow": inflow.columns if inflow else None})
-                        if ckpt.stop:
-                            raise run.failure(ckpt.stopped("sph", scene.name, t, run.n_steps), t,
-                                              lambda: run.fields(P, E))
+                    ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
+                                                    "reflections": run.reflections, "totals0": run.totals0,
+                                                    "counters": (sph.seconds, sph.searches, sph.force_interactions),
+                                                    "inflow": inflow.columns if inflow else None},
+                                   lambda: run.fields(P, E))
                 run.add_frame(run.fields(P, E), t)
         finally:
             bar.close()
