@@ -1,20 +1,36 @@
 """Inflow buffer for gas SPH (SPEC §3.1; Lastiwka, Basa & Quinlan 2009,
 Int. J. Numer. Meth. Fluids 61, 709).
 
-A layer of buffer particles, at least ``depth`` (more than one support
-radius) thick, sits upstream of an inflow side. Buffer particles carry the
-imposed state (ρ, v, p) of the current time and move with the imposed
-velocity; their density and support are imposed, not summed. A buffer
-particle that crosses the inlet becomes a fluid particle; a new column is
-spawned one spacing upstream of the last whenever the layer thins, so the
-mass flux ρ v through the inlet is the imposed one (all particles have the
-same mass m; columns are ``m / (ρ Δy)`` apart in 2D, ``m/ρ`` in 1D, and the
-rows ``Δy ≈ sqrt(m/ρ(0))`` apart, so the layer starts isotropic).
+A layer of buffer particles, ``depth`` (more than one support radius) thick,
+sits upstream of an inflow side. Buffer particles carry the boundary state
+(ρ, v, p) of the current time; their density and support are imposed, not
+summed. The layer is a lattice of columns of equal mass per unit inlet width
+``μ = m/Δy`` (``m`` in 1D; the rows ``Δy ≈ sqrt(m/ρ(0))`` apart, so the
+layer starts isotropic) at the boundary density: column ``j`` sits at
+``x_j = x_inlet − ((j − ½) μ − Φ)/ρ``, where ``Φ = ∫ ρ u dt`` is the mass per
+unit width that has flowed through the inlet. The lattice moves with the
+boundary velocity, a column crosses the inlet and becomes fluid particles
+when Φ passes ``(j − ½) μ``, so the mass that enters is the boundary mass
+flux to within one column however the density varies. Where the boundary
+state flows out of the domain the lattice moves upstream, fluid particles
+that cross the inlet leave the run, and no column enters.
+
+The boundary state is the one a finite-volume scheme puts on the inlet face
+(Toro 2009, §6.3.3): the exact solution at x/t = 0 of the Riemann problem
+between the imposed state (upstream) and the gas next to the inlet
+(downstream). Where the imposed flow is supersonic it is the imposed state;
+where it is subsonic, the waves travelling upstream from the domain (the
+blast's reflection from the far wall, the expansion behind a decaying blast)
+leave through the inlet instead of reflecting from a layer that holds its
+pressure and velocity fixed. A shock entering gas at rest, as in
+``shock_reflection``, has exactly the imposed state on the inlet face.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from compare.exact.riemann import sample
 
 
 class InflowBuffer:
@@ -24,46 +40,74 @@ class InflowBuffer:
         if side != "x_lo":
             raise ValueError(f"inflow buffers are implemented for side x_lo only, got {side}.")
         self.scene, self.mass, self.depth = scene, mass, depth
-        self.state = scene.boundaries[side].state
+        self.imposed = scene.boundaries[side].state
         self.wall = scene.domain[0][0]
         self.dim = scene.dim
+        #: (ρ, u, v, p) of the gas next to the inlet, None until observed
+        self.adjacent = None
         if self.dim == 2:
             # rows as far apart as the columns at the imposed density of t = 0: an isotropic layer, so
             # the particles entering the domain do not have to rearrange (which would heat the gas)
             (y0, y1) = scene.domain[1]
-            ny = max(1, int(round((y1 - y0) / np.sqrt(mass / self.state(0.0)[0]))))
+            ny = max(1, int(round((y1 - y0) / np.sqrt(mass / self.imposed(0.0)[0]))))
             self.column_y = y0 + (np.arange(ny) + 0.5) * (y1 - y0) / ny
             self.dy = (y1 - y0) / ny
         else:
             self.column_y, self.dy = np.zeros(1), 1.0
-        self.columns = np.zeros(0)  # x of every buffer column
-        self._fill(0.0)
+        self.column_mass = mass / self.dy
+        #: Φ, the mass per unit inlet width that has flowed in (negative where it flowed out)
+        self.inflowed = 0.0
+        self._last_state = (None, None)  # ((t, adjacent), state): a step asks for the same state several times
 
-    def spacing(self, t: float) -> float:
-        """Distance between columns at the imposed density of time ``t``."""
-        rho = self.state(t)[0]
-        return self.mass / (rho * self.dy)
+    def state(self, t: float) -> tuple[float, float, float, float]:
+        """``(ρ, u, v, p)`` on the inlet face at time ``t``: the Riemann
+        problem of the imposed state and the adjacent gas sampled at x/t = 0;
+        the tangential velocity is the upstream side's where the gas flows in."""
+        key, state = self._last_state
+        if key != (t, self.adjacent):
+            state = self._face_state(t)
+            self._last_state = ((t, self.adjacent), state)
+        return state
 
-    def _fill(self, t: float) -> None:
-        """Add columns upstream until the layer is ``depth`` thick."""
-        s = self.spacing(t)
-        last = self.columns.min() if self.columns.size else self.wall + 0.5 * s
-        new = []
-        while last - s >= self.wall - self.depth:
-            last -= s
-            new.append(last)
-        self.columns = np.concatenate([self.columns, new])
+    def _face_state(self, t: float) -> tuple[float, float, float, float]:
+        rho, u, v, p = self.imposed(t)
+        if self.adjacent is None:
+            return rho, u, v, p
+        rho_a, u_a, v_a, p_a = self.adjacent
+        rho_b, u_b, p_b = (float(a) for a in sample((rho, u, p), (rho_a, u_a, p_a), self.scene.gamma, 0.0))
+        return rho_b, u_b, (v if u_b > 0.0 else v_a), p_b
+
+    def observe(self, x, v, rho, p, width: float) -> None:
+        """Take the adjacent gas as the mean state of the fluid particles
+        within ``width`` of the inlet (unchanged if there are none)."""
+        near = x[:, 0] < self.wall + width
+        if near.any():
+            vel = v[near].mean(axis=0)
+            self.adjacent = (float(rho[near].mean()), float(vel[0]), float(vel[1]) if self.dim == 2 else 0.0,
+                             float(p[near].mean()))
+
+    def support(self, t: float, eta: float) -> float:
+        """Support radius H = η (m/ρ)^(1/d) of the buffer particles at ``t``."""
+        return eta * (self.mass / self.state(t)[0]) ** (1.0 / self.dim)
+
+    def _column_x(self, j, rho: float) -> np.ndarray:
+        """x of the columns ``j`` at boundary density ``rho``."""
+        return self.wall - ((j - 0.5) * self.column_mass - self.inflowed) / rho
+
+    def _columns(self, rho: float) -> np.ndarray:
+        """x of the columns upstream of the inlet, as deep as the layer."""
+        first = np.floor(self.inflowed / self.column_mass + 0.5) + 1
+        last = np.floor((self.depth * rho + self.inflowed) / self.column_mass + 0.5)
+        return self._column_x(np.arange(first, last + 1), rho)
 
     def advance(self, t: float, dt: float) -> np.ndarray:
-        """Move the layer over ``[t, t + dt]`` with the imposed velocity; return
-        the positions (k, dim) of the particles that crossed into the domain."""
-        u = self.state(t + 0.5 * dt)[1]
-        self.columns = self.columns + dt * u
-        crossed = self.columns >= self.wall
-        entering = self.columns[crossed]
-        self.columns = self.columns[~crossed & (self.columns >= self.wall - 2.0 * self.depth)]
-        self._fill(t + dt)
-        return self._positions(entering)
+        """Move the layer over ``[t, t + dt]`` with the boundary mass flux; return
+        the positions (k, dim) at ``t + dt`` of the particles that crossed into the domain."""
+        (rho0, u0, _, _), (rho1, u1, _, _) = self.state(t), self.state(t + dt)
+        before = np.floor(self.inflowed / self.column_mass + 0.5)
+        self.inflowed += 0.5 * (rho0 * u0 + rho1 * u1) * dt  # the trapezoidal rule
+        after = np.floor(self.inflowed / self.column_mass + 0.5)
+        return self._positions(self._column_x(np.arange(before + 1, after + 1), rho1))
 
     def _positions(self, columns) -> np.ndarray:
         if self.dim == 1:
@@ -73,10 +117,10 @@ class InflowBuffer:
 
     def particles(self, t: float, eta: float):
         """``(x, v, rho, u, H)`` of the buffer particles at time ``t``."""
-        x = self._positions(self.columns)
         rho, u, v, p = self.state(t)
+        x = self._positions(self._columns(rho))
         k = x.shape[0]
         vel = np.tile(np.array([u, v][: self.dim]), (k, 1))
-        H = eta * (self.mass / rho) ** (1.0 / self.dim)
         gamma = self.scene.gamma
-        return x, vel, np.full(k, rho), np.full(k, p / ((gamma - 1.0) * rho)), np.full(k, H)
+        return (x, vel, np.full(k, rho), np.full(k, p / ((gamma - 1.0) * rho)),
+                np.full(k, self.support(t, eta)))

@@ -350,6 +350,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     # the pass timings and counts exclude compilation
     sph.seconds, sph.force_interactions, sph.searches = dict.fromkeys(sph.seconds, 0.0), 0, 0
     P.H, P.rho = E.H, E.rho
+    _observe_inlet(inflow, P, E, 0.0, eta)
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
@@ -362,7 +363,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         sph.seconds, sph.searches, sph.force_interactions = saved["counters"]
         sph.lists = None
         if inflow:
-            inflow.columns = saved["inflow"]
+            inflow.inflowed, inflow.adjacent = saved["inflow"]
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
     with ckpt.watching_signals():
@@ -391,7 +392,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         run.reflections += reflected
                     div_old = E.div_v
                     if inflow:
-                        # buffer particles that crossed the inlet join the fluid with the imposed state
+                        # buffer particles that crossed the inlet join the fluid with the boundary state
                         new = _entering(inflow, t, dt, eta, Q.m[0], alpha_min)
                         Q.append(new)
                         v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
@@ -418,6 +419,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     Q.v, Q.u, Q.H, Q.rho = v_new, u_new, E_new.H, E_new.rho
                     P, E = Q, E_new
                     t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+                    _observe_inlet(inflow, P, E, t, eta)
                     run.n_steps += 1
                     bar.update(dt)
                     if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
@@ -427,7 +429,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
                                                     "reflections": run.reflections, "totals0": run.totals0,
                                                     "counters": (sph.seconds, sph.searches, sph.force_interactions),
-                                                    "inflow": inflow.columns if inflow else None},
+                                                    "inflow": (inflow.inflowed, inflow.adjacent) if inflow else None},
                                    lambda: run.fields(P, E))
                 run.add_frame(run.fields(P, E), t)
         finally:
@@ -485,7 +487,7 @@ def _initial_particles(scene, dx, eta, alpha_min, box) -> Particles:
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
     """The buffer particles that cross the inlet over ``[t, t + dt]``, as fluid
-    particles carrying the imposed state of ``t + dt``."""
+    particles carrying the boundary state of ``t + dt``."""
     x = inflow.advance(t, dt)
     _, bv, brho, bu, bH = inflow.particles(t + dt, eta)
     k = x.shape[0]
@@ -494,6 +496,13 @@ def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: f
     return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
                      H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), alpha_u=np.zeros(k),
                      rho=np.full(k, brho[0]))
+
+
+def _observe_inlet(inflow, P: Particles, E: Evaluation, t: float, eta: float) -> None:
+    """Give the inflow buffer (if any) the gas within one buffer support of
+    the inlet, the downstream state of its boundary Riemann problem."""
+    if inflow:
+        inflow.observe(P.x, P.v, E.rho, (inflow.scene.gamma - 1.0) * E.rho * P.u, inflow.support(t, eta))
 
 
 def _inflow_buffer(scene, P: Particles, eta: float):
