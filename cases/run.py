@@ -31,7 +31,8 @@ def solver(method: str):
 def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, workers: int | None = None,
         **settings):
     """Run ``scene`` (a Scene or a case name) with ``method`` and return the
-    schema Dataset, with the scene's measured quantities in its attributes.
+    schema Dataset, with the scene's measured quantities in its attributes
+    (their names listed in the attribute ``measured_quantities``).
 
     ``settings`` go to the solver (``dx``, ``cfl``, ``t_end``, ``progress``, and
     method-specific ones). ``ensembles`` > 1 runs that many seeds of a
@@ -52,5 +53,7 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
     else:
         ds = solver(method)(scene, **settings)
     if scene.measure is not None:
-        ds.attrs.update(scene.measure(ds))
+        quantities = scene.measure(ds)
+        ds.attrs.update(quantities)
+        ds.attrs["measured_quantities"] = " ".join(quantities)
     return ds

@@ -35,6 +35,13 @@ __all__ = [
 #: the norms :func:`field_error` knows.
 NORMS = ("L1", "L2", "Linf")
 
+#: units of the scalar quantities scenes measure with this module (``cases.run`` attaches them to a result)
+MEASURED_UNITS = {
+    "wall_peak_pressure_raw": "Pa", "wall_peak_pressure_fitted": "Pa", "wall_arrival_time": "s",
+    "wall_impulse_final": "N s m-1", "wall_force_peak": "N m-1", "reflection_coefficient": "1",
+    "shock_angle_deg": "degree", "shock_radius": "m",
+}
+
 _COORD_ATOL = 1e-12  # two grids are the same when their coordinates agree to this (× max(1, |c|))
 
 

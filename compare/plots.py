@@ -17,7 +17,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: 
 import xarray as xr  # noqa: E402
 
 from compare.convergence import observed_order  # noqa: E402
-from compare.metrics import schlieren  # noqa: E402
+from compare.metrics import MEASURED_UNITS, schlieren  # noqa: E402
 from compare.report import pareto_front  # noqa: E402
 
 
@@ -104,6 +104,42 @@ def convergence(df, error: str, path, title: str) -> Path:
     return _save_log_log(fig, ax, "cell size or particle spacing dx [m]", error, title, path)
 
 
+def richardson(df, convergence, path, title: str) -> Path:
+    """One panel per measured quantity of ``convergence`` (a
+    :func:`compare.report.grid_convergence` table): the quantity against
+    dx for every run of each method in ``df``, its Richardson value as a
+    dashed line and the finest level's GCI as an error bar, both in the
+    legend."""
+    quantities = list(dict.fromkeys(convergence["quantity"]))
+    cols = min(3, len(quantities))
+    rows_n = -(-len(quantities) // cols)
+    fig, axes = plt.subplots(rows_n, cols, figsize=(4.4 * cols, 3.4 * rows_n + 0.4), squeeze=False)
+    for ax, quantity in zip(axes.flat, quantities):
+        for k, (_, row) in enumerate(convergence[convergence["quantity"] == quantity].iterrows()):
+            colour = f"C{k}"
+            runs = df[df["method"] == row["method"]].sort_values("dx")
+            if isinstance(row.get("note"), str):
+                label = f"{row['method']}: not converging"
+            else:
+                ax.axhline(row["f_ext"], color=colour, ls="--", lw=0.9)
+                ax.errorbar(row["dx1"], row["f1"], yerr=row["gci_fine"] * abs(row["f1"]), color=colour, capsize=4)
+                label = (f"{row['method']}: order {row['p']:.2f}, Richardson {row['f_ext']:.5g},\n"
+                         f"GCI {100 * row['gci_fine']:.2g} %")
+            ax.plot(runs["dx"], runs[quantity], "o-", color=colour, ms=4, label=label)
+        unit = MEASURED_UNITS.get(quantity)
+        _plain_log_axis(ax.xaxis, ax.set_xscale)
+        ax.set_xticks(sorted(set(df["dx"])))  # every level labelled (a ladder may span less than a decade)
+        ax.set_xlabel("cell size or particle spacing dx [m]", fontsize=8)
+        ax.set_ylabel(f"{quantity} [{unit}]" if unit else quantity, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3, which="both")
+    for ax in list(axes.flat)[len(quantities):]:
+        ax.axis("off")
+    fig.suptitle(f"{title}; Richardson value dashed, GCI of the finest level as error bar", fontsize=10)
+    return _save(fig, path)
+
+
 def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None) -> Path:
     """2D maps of ``field`` at ``time`` (default: the last output time), one
     panel per run on one colour scale (the reference first, if given), and
@@ -174,10 +210,7 @@ def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
     2 and 5 times the powers of ten, the error column ('rho_L1') named as
     'L1 error of rho', title, legend, grid; save it."""
     for axis, scale in ((ax.xaxis, ax.set_xscale), (ax.yaxis, ax.set_yscale)):
-        scale("log")
-        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
-        axis.set_minor_formatter(NullFormatter())
+        _plain_log_axis(axis, scale)
     field, _, norm = error.rpartition("_")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(f"{norm} error of {field}")
@@ -185,6 +218,14 @@ def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     return _save(fig, path)
+
+
+def _plain_log_axis(axis, set_scale) -> None:
+    """A log axis with plain numbers at 1, 2 and 5 times the powers of ten."""
+    set_scale("log")
+    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+    axis.set_minor_formatter(NullFormatter())
 
 
 def _save(fig, path, tight: bool = True) -> Path:

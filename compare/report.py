@@ -82,6 +82,43 @@ def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: li
     return pd.DataFrame(rows)
 
 
+def grid_convergence(df: pd.DataFrame, quantities) -> pd.DataFrame:
+    """Richardson value and Grid Convergence Index of each of ``quantities``
+    (columns of ``df``, a :func:`table`) per method, from the method's three
+    finest resolutions among its finished runs (Celik et al. 2008, by
+    :func:`compare.convergence.gci`; refinement ratios from ``dx``). One row
+    per method and quantity: the levels ``dx1 < dx2 < dx3`` and values
+    ``f1, f2, f3``, then p, ``f_ext`` (the Richardson value), ``gci_fine``
+    and the rest of :func:`~compare.convergence.gci`; where the three values
+    give no observed order or do not converge (|ε₂₁/ε₃₂| ≥ 1), ``note``
+    says why. Quantities
+    equal on all three levels (a scene's exact value, not computed) and
+    methods with fewer than three resolutions have no row."""
+    from compare.convergence import gci
+
+    rows = []
+    finished = df[df["status"] == "ok"] if "status" in df else df
+    for method, group in finished.groupby("method", sort=False):
+        levels = group.drop_duplicates("dx").sort_values("dx").head(3)
+        if len(levels) < 3:
+            continue
+        h1, h2, h3 = levels["dx"]
+        for quantity in (q for q in quantities if q in levels):
+            f1, f2, f3 = (float(v) for v in levels[quantity])
+            if not np.all(np.isfinite([f1, f2, f3])) or f1 == f2 == f3:
+                continue
+            row = dict(method=method, quantity=quantity, dx1=h1, dx2=h2, dx3=h3, f1=f1, f2=f2, f3=f3)
+            try:
+                row.update(gci(f1, f2, f3, h2 / h1, h3 / h2))
+                if not abs(row["convergence_ratio"]) < 1.0:
+                    row["note"] = (f"the levels do not converge: the change from dx2 to dx1 is "
+                                   f"{row['convergence_ratio']:.3g} times the change from dx3 to dx2.")
+            except ValueError as err:
+                row["note"] = str(err)
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
 def pareto_front(seconds, errors) -> np.ndarray:
     """Mask of the runs no other run beats in both cost and error: run i is
     on the front unless some run j has seconds_j ≤ seconds_i and errors_j ≤
@@ -117,7 +154,10 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     difference maps and numerical schlieren (2D), probe histories, wall
     force and impulse where the scene has them, and, against a reference,
     speed versus error and convergence of the L1 density error (``versus``
-    names the reference in their titles)."""
+    names the reference in their titles). Where a method ran at three or
+    more resolutions, the Richardson value and GCI of every quantity the
+    scene measured (:func:`grid_convergence`) go to ``convergence.csv`` and
+    ``convergence.json`` and the figure ``richardson.png``."""
     from compare import plots
 
     folder = Path(folder)
@@ -137,6 +177,15 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
                          scale=1e3, unit="ms")
     for var in (v for v in ("wall_force", "wall_impulse") if v in first):
         plots.series(runs, var, folder / f"{var}.png", names=names, scale=1e3, unit="ms")
+    convergence = grid_convergence(df, first.attrs.get("measured_quantities", "").split())
+    if not convergence.empty:
+        convergence.to_csv(folder / "convergence.csv", index=False)
+        (folder / "convergence.json").write_text(
+            json.dumps(convergence.to_dict(orient="records"), indent=2, default=float))
+        if "f_ext" in convergence:
+            plots.richardson(df, convergence, folder / "richardson.png",
+                             f"{first.attrs['case']}: measured quantities to t = {float(first.time[-1]):.4g} s "
+                             "against resolution")
     if reference is not None and "rho_L1" in df and (df["rho_L1"] > 0).any():
         title = f"{first.attrs['case']}: L1 density error against {versus} at t = {df['error_time'].max():.4g} s"
         plots.speed_versus_error(df, "rho_L1", folder / "speed_versus_error.png", title)
