@@ -1,9 +1,10 @@
 """What a run records, and how it becomes a result.
 
-Every solver, whatever its method, records after each step the pressure at
-the scene's probes and the force the gas exerts on each side of the domain;
-:class:`History` turns those records into the schema's ``p_probe``,
-``wall_force`` and ``wall_impulse`` on the scene's ``t_probe``.
+Every solver, whatever its method, records after each step the pressure (or,
+in water, the surface elevation) at the scene's probes and the force the gas
+exerts on each side of the domain; :class:`History` turns those records into
+the schema's ``p_probe`` (``eta_probe``), ``wall_force`` and
+``wall_impulse`` on the scene's ``t_probe``.
 :class:`RunRecord` keeps the output frames and the cost and assembles the
 schema Dataset, complete or partial (``status = "failed"``).
 """
@@ -53,12 +54,12 @@ class History:
 
     def series(self, scene, t_probe: np.ndarray) -> dict:
         """The schema's time series of ``scene`` on ``t_probe``: ``p_probe``
-        (if the scene has probes) and ``wall_force``/``wall_impulse`` (if it
+        or ``eta_probe`` (the scene's ``probe_variable``, if it has probes) and ``wall_force``/``wall_impulse`` (if it
         has a target wall), the force relative to the ambient ``p0``."""
         out = {}
         if scene.probes:
             samples = np.stack(self.probes)
-            out["p_probe"] = np.stack([np.interp(t_probe, self.t, s) for s in samples.T], axis=1)
+            out[scene.probe_variable] = np.stack([np.interp(t_probe, self.t, s) for s in samples.T], axis=1)
         if scene.wall is not None and self.forces:
             side = scene.sides.index(scene.wall.side)
             if scene.dim == 1:

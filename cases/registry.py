@@ -27,7 +27,7 @@ def scene_builder(name: str):
 
 def _load():
     # the scene modules register themselves on import
-    from cases import blast, dsmc_study, verification  # noqa: F401
+    from cases import blast, dsmc_study, verification, water  # noqa: F401
 
 
 def names() -> list[str]:

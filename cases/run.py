@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from importlib.metadata import entry_points
 
-from cases.errors import InputError
+from cases.errors import InputError, Unsupported
 
 GROUP = "partmesh.methods"
 
@@ -45,6 +45,9 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
         from cases.registry import get
 
         scene = get(scene)
+    medium = getattr(solver(method), "medium", "gas")
+    if scene.medium != medium:
+        raise Unsupported(f"method {method} runs {medium} scenes, and {scene.name} is a {scene.medium} scene.")
     if ensembles != 1:
         from cases.ensemble import run_ensemble
 

@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from cases.errors import InputError
+
 SIDES = ("x_lo", "x_hi", "y_lo", "y_hi")
 BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
 
@@ -119,10 +121,17 @@ class Scene:
     measure: Callable | None = None
     description: str = ""
 
+    #: what the scene holds; a method runs the scenes of its medium only
+    medium = "gas"
+    #: the schema's series of the probes
+    probe_variable = "p_probe"
+    boundary_kinds = BOUNDARY_KINDS
+
     def __post_init__(self):
-        from cases.checks import check_scene
+        from cases.checks import check_scene, in_range
 
         check_scene(self)
+        in_range("gamma", self.gamma, 1.0, 5.0, lo_open=True)
 
     @property
     def sides(self) -> tuple[str, ...]:
@@ -138,3 +147,64 @@ class Scene:
     def to_dict(self) -> dict:
         """The scene's parameters in JSON-able form (stored in every result)."""
         return {"case": self.name, **self.parameters}
+
+
+@dataclass(frozen=True)
+class WaterScene:
+    """A free-surface water scene (SPEC §4.3): still water whose surface is
+    at η = 0, over the bed ``bed(x, y)`` (its elevation z [m], negative
+    below the still surface: a flat bottom of depth d is ``z = −d``).
+
+    ``initial(x, y)`` returns ``(eta, u, v)`` arrays (``y`` is ``None`` in
+    1D): the initial surface elevation and velocity; the depth is
+    ``max(0, η − z)``, so land above the surface starts dry.
+    ``geometry`` is ``"planar"`` or ``"radial"`` (1D only: ``x`` is the
+    radius of an axisymmetric run, side ``x_lo`` at r = 0 the ``axis``).
+    ``boundaries`` maps each side to one of :attr:`boundary_kinds`
+    (``absorbing``: long waves leave without reflection). ``probes`` are
+    wave gauges (the series ``eta_probe``); ``depth`` is the still-water
+    depth that sets the scale (long-wave speed sqrt(g d)). The rest is as
+    in :class:`Scene`.
+    """
+
+    name: str
+    parameters: dict
+    dim: int
+    domain: tuple[tuple[float, float], ...]
+    depth: float
+    bed: Callable
+    initial: Callable
+    boundaries: dict
+    output: OutputGrid
+    dx: float
+    t_end: float
+    geometry: str = "planar"
+    g: float = 9.81
+    rho: float = 1000.0
+    probes: tuple[Probe, ...] = ()
+    fields: tuple[str, ...] = ("eta", "u", "h")
+    exact_solution: Callable | None = None
+    measure: Callable | None = None
+    description: str = ""
+
+    medium = "water"
+    probe_variable = "eta_probe"
+    boundary_kinds = ("reflect", "outflow", "absorbing", "periodic", "axis")
+    obstacles = ()
+    wall = None
+
+    def __post_init__(self):
+        from cases.checks import check_scene, choice, positive
+
+        check_scene(self)
+        positive("depth", self.depth)
+        positive("g", self.g)
+        choice("geometry", self.geometry, ("planar", "radial"))
+        if self.geometry == "radial" and (self.dim != 1 or self.boundaries["x_lo"] != "axis" or self.domain[0][0] != 0.0):
+            raise InputError(f"scene {self.name}: a radial scene is 1D over r in [0, R] with the axis at x_lo.")
+        if "axis" in [self.boundaries[s] for s in self.sides] and self.geometry != "radial":
+            raise InputError(f"scene {self.name}: the boundary kind 'axis' belongs to radial scenes only.")
+
+    sides = Scene.sides
+    exact = Scene.exact
+    to_dict = Scene.to_dict

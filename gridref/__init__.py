@@ -1,5 +1,5 @@
 """Mesh solvers in JAX on jax-cfd grids: the finite-volume Euler reference
-(method ``fv``).
+(method ``fv``) and the shallow-water model (method ``swe``).
 
 Importing ``gridref`` switches JAX to float64 (every reference result is
 double precision) and turns on JAX's persistent compilation cache, so a

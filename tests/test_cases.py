@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import cases
-from cases.scene import Inflow, Scene
+from cases.scene import Inflow, Scene, WaterScene
 
 REQUIRED_SCENES = ("sod", "shock_reflection", "wedge", "sedov", "noh", "blast_wall", "cylinder_shock")
 
@@ -43,12 +43,12 @@ def default_scene(request):
 
 def test_every_scene_builds_with_defaults(default_scene):
     scene = default_scene
-    assert isinstance(scene, Scene)
+    assert isinstance(scene, (Scene, WaterScene))
     assert scene.name in cases.names()
     assert scene.dim in (1, 2) and len(scene.domain) == scene.dim
     for side in scene.sides:
         bc = scene.boundaries[side]
-        assert isinstance(bc, Inflow) or bc in ("reflect", "outflow", "periodic")
+        assert (isinstance(bc, Inflow) and scene.medium == "gas") or bc in scene.boundary_kinds
     times = np.asarray(scene.output.times)
     assert times.size >= 1 and np.all(np.diff(times) > 0)
     assert times[0] >= 0 and times[-1] <= scene.t_end * (1 + 1e-12)
@@ -80,8 +80,13 @@ def test_initial_state_is_physical(default_scene):
         X, Y = grid[0], None
     else:
         X, Y = np.meshgrid(grid[0], grid[1])
-    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, scene.dx))
-    assert np.all(rho > 0) and np.all(p > 0)
+    if scene.medium == "water":
+        eta, u, v = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y))
+        depth = eta - np.asarray(scene.bed(X, Y), float)
+        assert np.all(np.isfinite(depth)) and np.any(depth > 0)  # water somewhere; land where depth <= 0
+    else:
+        rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, scene.dx))
+        assert np.all(rho > 0) and np.all(p > 0)
     assert np.all(np.isfinite(u)) and np.all(np.isfinite(v))
 
 

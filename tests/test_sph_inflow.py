@@ -54,7 +54,7 @@ def test_the_layer_is_a_lattice_at_the_boundary_density_as_deep_as_asked():
     inflow = buffer_with(pulsing, depth=0.02)
     for k in range(50):
         inflow.advance(k * 1e-3, 1e-3)
-    x, v, rho, u, H = inflow.particles(0.05, 4.0)
+    x, _, rho, _, _ = inflow.particles(0.05, 4.0)
     gaps = np.diff(np.sort(x[:, 0]))
     np.testing.assert_allclose(gaps, MASS / rho[0], rtol=1e-12)
     assert rho[0] == pytest.approx(pulsing(0.05)[0])

@@ -5,6 +5,9 @@
   Friedlander and Rankine-Hugoniot blast inflow (Anderson; Kinney & Graham)
 * :mod:`compare.exact.sedov` — Sedov-Taylor point blast (Sedov 1959; Kamm & Timmes 2007)
 * :mod:`compare.exact.noh` — Noh's implosion (Noh 1987)
+* :mod:`compare.exact.water` — linear dispersive waves from an initial elevation at rest,
+  planar and radial, finite depth (Whitham 1974 §13; Prins 1958), and the shallow-water
+  dam break on a wet (Stoker 1957) or dry (Ritter 1892) bed
 
 Functions that describe fields return a Dataset in the partmesh schema with
 ``method = "exact"``, so an exact answer compares like a run.
@@ -24,11 +27,41 @@ from compare.exact.shocks import (
     reflection_coefficient,
     theta_beta_mach,
 )
+from compare.exact.water import (
+    CRATER_GAUGES,
+    PRINS_GAUGES,
+    Crater,
+    DamBreakState,
+    Gaussian,
+    InitialShape,
+    Mound,
+    dam_break,
+    dam_break_profile,
+    dam_break_state,
+    dispersion,
+    group_velocity,
+    linear_wave_fields,
+    linear_waves,
+)
 
 __all__ = [
     "BLASTS",
+    "CRATER_GAUGES",
+    "PRINS_GAUGES",
+    "Crater",
+    "DamBreakState",
+    "Gaussian",
+    "InitialShape",
+    "Mound",
+    "dam_break",
+    "dam_break_profile",
+    "dam_break_state",
+    "dispersion",
     "driver_pressure",
     "friedlander",
+    "group_velocity",
+    "linear_wave_fields",
+    "linear_waves",
     "max_deflection",
     "noh",
     "noh_profile",

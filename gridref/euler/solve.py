@@ -21,10 +21,7 @@ from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import conservative, primitive
 from gridref.euler.step import Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
-
-#: smallest time step, relative to t_end, before a run is declared stalled
-DT_FLOOR = 1e-12
-
+from gridref.march import march
 
 def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
@@ -100,7 +97,6 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     run = _Run(scene, grid, None if ib is None else ~ib.fluid, settings,
                compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
-    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
@@ -109,33 +105,13 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         U, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["U"]), saved["t"], saved["dt_cfl"]
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
-    with ckpt.watching_signals():
-        try:
-            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
-                while t < t_out * (1 - 1e-14):
-                    if not np.isfinite(dt_cfl) or dt_cfl < DT_FLOOR * t_end:
-                        raise run.failure(_diagnose(U, gamma, grid, t, run.n_steps, dt_cfl, run.solid), t,
-                                          lambda: run.fields(U))
-                    dt = min(dt_cfl, t_out - t)
-                    U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-                    if not np.isfinite(dt_cfl):
-                        # the last good state is kept for the partial result
-                        raise run.failure(_diagnose(U_new, gamma, grid, t + dt, run.n_steps + 1, dt_cfl, run.solid), t,
-                                          lambda: run.fields(U))
-                    U = U_new
-                    t_new = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                    run.history.record(t, t_new, probes, forces)
-                    run.n_steps += 1
-                    bar.update(t_new - t)
-                    t = t_new
-                    if run.n_steps % 50 == 0:
-                        bar.set_postfix_str(f"{run.n_steps} steps")
-                    ckpt.step_done(run, t, lambda: {"U": jax.tree_util.tree_map(np.asarray, U), "t": t,
-                                                    "dt_cfl": dt_cfl}, lambda: run.fields(U))
-                run.add_frame(run.fields(U), t)
-        finally:
-            bar.close()
-    return run.dataset()
+
+    def advance(U, dt, t):
+        U, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+        return U, dt_cfl, probes, forces
+
+    return march(run, U, t, dt_cfl, t_end, advance,
+                 lambda U, t, step, dt: _diagnose(U, gamma, grid, t, step, dt, run.solid), ckpt, bar)
 
 
 def _immersed(scene, grid, dx):

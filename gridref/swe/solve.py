@@ -1,0 +1,139 @@
+"""The shallow-water model (method ``swe``): run a water scene, return a
+schema Dataset on the scene's output grid (SPEC §3.5)."""
+
+from __future__ import annotations
+
+import time as _time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from tqdm.auto import tqdm
+
+from cases.checkpoint import checkpoint_for
+from cases.checks import choice, in_range, positive
+from cases.errors import InputError
+from cases.history import History, RunRecord
+from compare.regrid import to_output_grid
+from gridref.euler.reconstruct import LIMITERS
+from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
+from gridref.march import march
+from gridref.swe.step import DRY, Scheme, radii, ssp_rk2, stable_dt, velocities
+
+SETTINGS = ("dx", "cfl", "limiter", "t_end", "checkpoint", "checkpoint_every", "resume")
+
+
+class Stepper:
+    """The jitted SSP-RK2 step and CFL time step of one run:
+    ``stepper(U, dt) -> (U, dt_next, eta at the gauges)``."""
+
+    def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
+        def step(U, dt):
+            U = ssp_rk2(U, z, dt, scheme, radius)
+            eta = (U[0] + z).ravel()[gauge_index]
+            return U, stable_dt(U, scheme), jnp.sum(eta * gauge_weight, axis=-1)
+
+        self._step = jax.jit(step)
+        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme))
+
+    def __call__(self, U, dt):
+        U, dt_next, gauges = self._step(U, dt)
+        return U, float(dt_next), gauges
+
+    def compile(self, U) -> float:
+        """Compile the step for these shapes; return the seconds spent."""
+        t0 = _time.perf_counter()
+        jax.block_until_ready(self._step(U, self.initial_dt(U)))
+        return _time.perf_counter() - t0
+
+
+def solve(scene, dx=None, cfl=0.25, limiter="mc", t_end=None, progress=True, checkpoint=None,
+          checkpoint_every=600.0, resume=False, **unknown):
+    """Run the water ``scene`` with the shallow-water model: MUSCL
+    reconstruction (``limiter``) of depth, surface and velocity, hydrostatic
+    reconstruction at the faces, HLLC fluxes, SSP-RK2 at Courant number
+    ``cfl`` (the depth stays ≥ 0 up to 0.25, :mod:`gridref.swe.step`).
+
+    ``dx`` is the cell size [m] (default: the scene's). Returns a schema
+    Dataset with ``eta`` (NaN over dry cells), the depth-averaged velocity
+    and ``h``; raises :class:`~cases.errors.SolverFailed` with the partial
+    result if a depth turns negative or the run is interrupted.
+    ``checkpoint``/``checkpoint_every``/``resume`` as in the other methods
+    (:mod:`cases.checkpoint`).
+    """
+    if unknown:
+        raise InputError(f"method swe has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
+    settings = {
+        "method": "swe", "dx": positive("dx", scene.dx if dx is None else dx),
+        "cfl": in_range("cfl", cfl, 0.0, 0.5, lo_open=True), "limiter": choice("limiter", limiter, tuple(LIMITERS)),
+        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
+    }
+    dx, t_end = settings["dx"], settings["t_end"]
+    grid = solver_grid(scene.domain, dx)
+    X, Y = mesh(grid)
+    z = np.broadcast_to(np.asarray(scene.bed(X, Y), float), X.shape)
+    eta0, u0, v0 = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y))
+    h0 = np.maximum(eta0 - z, 0.0)
+    for name, a in (("bed", z), ("initial surface", eta0), ("initial velocity", u0)):
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"scene {scene.name}: the {name} must be finite everywhere.")
+    U = (jnp.asarray(h0), jnp.asarray(h0 * u0)) + ((jnp.asarray(h0 * v0),) if scene.dim == 2 else ())
+    scheme = Scheme(g=scene.g, dx=tuple(grid.step), kinds=tuple(scene.boundaries[s] for s in scene.sides),
+                    radial=scene.geometry == "radial", limiter=settings["limiter"], cfl=settings["cfl"])
+    radius = radii(cell_centres(grid)[0], grid.step[0]) if scheme.radial else None
+    gauges = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
+    gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
+    stepper = Stepper(scheme, jnp.asarray(z), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight))
+    run = _Run(scene, grid, z, settings, stepper.compile(U),
+               History(np.sum((h0 + z).ravel()[gauge_index] * gauge_weight, axis=-1), 2 * scene.dim))
+    t, dt_cfl = 0.0, float(stepper.initial_dt(U))
+    ckpt = checkpoint_for(scene, "swe", settings, checkpoint, checkpoint_every, resume)
+    saved = ckpt.saved_state(run)
+    if saved is not None:
+        U, t, dt_cfl = tuple(jnp.asarray(a) for a in saved["U"]), saved["t"], saved["dt_cfl"]
+    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"swe {scene.name}", leave=False,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
+    no_forces = np.zeros(2 * scene.dim)
+    return march(run, U, t, dt_cfl, t_end, lambda U, dt, t: (*stepper(U, dt), no_forces), run.diagnosis, ckpt, bar)
+
+
+class _Run(RunRecord):
+    """The record of one swe run; frames are kept on the solver grid and
+    regridded onto the output grid when the result is assembled."""
+
+    def __init__(self, scene, grid, z, settings, compile_seconds, history):
+        super().__init__(scene, "swe", settings, compile_seconds, history)
+        self.grid, self.z = grid, z
+
+    def fields(self, U) -> dict:
+        h = np.asarray(U[0])
+        vel = [np.asarray(v) for v in velocities(U)]
+        eta = np.where(h > DRY, h + self.z, np.nan)
+        values = {"eta": eta, "h": h, "u": vel[0]}
+        if len(vel) == 2:
+            values["v"] = vel[1]
+        return {name: values[name] for name in self.scene.fields}
+
+    def diagnosis(self, U, t, step, dt) -> str:
+        """One sentence: when, where and what went wrong."""
+        h = np.asarray(U[0])
+        bad = ~(h >= 0.0) | ~np.all([np.isfinite(np.asarray(a)) for a in U], axis=0)
+        if np.any(bad):
+            where = np.unravel_index(np.flatnonzero(bad)[0], bad.shape)
+            at = ", ".join(f"{a} = {c[i]:.6g} m" for a, c, i in zip("xy", cell_centres(self.grid), where[::-1]))
+            return (f"swe became unstable at t = {t:.6g} s (step {step}): depth {h[where]:.3g} m "
+                    f"at {at}; lower cfl (now {self.settings['cfl']:g}; the depth is kept non-negative up to 0.25).")
+        return f"swe time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {step})."
+
+    def output(self):
+        scene, out, s = self.scene, self.scene.output, self.settings
+        src = cell_centres(self.grid)
+        pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
+        fields, how = {}, "identity"
+        for name in scene.fields:
+            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
+        geometry = "1D-radial" if scene.geometry == "radial" else f"{scene.dim}D"
+        scheme = (f"{geometry} shallow water: MUSCL ({s['limiter']} limiter on h, eta, velocity), hydrostatic "
+                  "reconstruction (Audusse et al. 2004), HLLC flux, SSP-RK2")
+        long_names = {"u": "depth-averaged velocity x", "v": "depth-averaged velocity y"}
+        return fields, None, scheme, int(np.prod(self.grid.shape)), {"regrid": how, "long_names": long_names}
