@@ -64,3 +64,90 @@ def lake_at_rest(dim=1, depth=0.5, island=0.7, length=1.0, t_end=0.5, n_out=100,
         probes=(Probe("centre", 0.25 * length, 0.25 * length if dim == 2 else 0.0),),
         description="Lake at rest over a bumpy bed with a dry island; measured: departure from rest.",
     )
+
+
+def _gauge_name(x: float) -> str:
+    return f"x{x:g}"
+
+
+def _linear_wave_scene(name, shape, geometry, depth, length, gauges, t_end, nx_out, g, parameters, description):
+    """A wave scene of SPEC §4.3: still water of depth ``depth`` over a flat
+    bed, the initial elevation ``shape`` at rest, a reflecting wall (planar)
+    or the axis (radial) at x = 0 and an absorbing far end at ``length``; its
+    exact solution is linear dispersive theory (:func:`compare.exact.linear_waves`),
+    fields on the output grid and the series at the gauges."""
+    domain = ((0.0, length),)
+    n_frames = int(np.ceil(t_end)) + 1
+    output = OutputGrid(domain=domain, shape=(nx_out,), times=tuple(np.linspace(0.0, t_end, n_frames)), dt_probe=0.01)
+    probes = tuple(Probe(_gauge_name(x), x) for x in gauges)
+
+    def exact_solution(times):
+        ds = exact.linear_waves(shape, output.x, times, depth, geometry=geometry, g=g, case=name)
+        t_probe = output.probe_times(float(np.max(times)))
+        eta, _ = exact.linear_wave_fields(shape, np.asarray(gauges, float), t_probe, depth, geometry=geometry, g=g)
+        return ds.assign_coords(probe=[p.name for p in probes], probe_x=("probe", np.asarray(gauges, float)),
+                                probe_y=("probe", np.zeros(len(gauges))), t_probe=t_probe).assign(
+            eta_probe=(("t_probe", "probe"), eta, {"units": "m", "long_name": "free-surface elevation at gauge"}))
+
+    return WaterScene(
+        name=name, parameters=parameters, dim=1, domain=domain, depth=depth, bed=lambda x, y: -depth + 0.0 * x,
+        initial=lambda x, y: (shape.profile(np.abs(x), geometry), 0.0, 0.0), geometry=geometry,
+        boundaries={"x_lo": "axis" if geometry == "radial" else "reflect", "x_hi": "absorbing"},
+        output=output, dx=0.01, t_end=t_end, g=g, probes=probes, exact_solution=exact_solution,
+        description=description,
+    )
+
+
+@scene_builder("prins_mound")
+def prins_mound(Q=0.12, L=0.61, depth=0.7, length=30.0, t_end=10.0, nx_out=1500, g=9.81):
+    """Prins' (1958) raised box of water released at rest in a flume; gauges at 2, 4.57, 6 and 8 m."""
+    return _prins("prins_mound", Q, L, depth, length, t_end, nx_out, g)
+
+
+@scene_builder("prins_depression")
+def prins_depression(Q=-0.12, L=0.61, depth=0.7, length=30.0, t_end=10.0, nx_out=1500, g=9.81):
+    """Prins' (1958) depressed box of water released at rest in a flume; gauges at 2, 4.57, 6 and 8 m."""
+    return _prins("prins_depression", Q, L, depth, length, t_end, nx_out, g)
+
+
+def _checked_wave_scene(depth, length, t_end, nx_out, g, gauges):
+    depth, t_end, g = checks.positive("depth", depth), checks.positive("t_end", t_end), checks.positive("g", g)
+    length = checks.positive("length", length)
+    nx_out = checks.integer("nx_out", nx_out, 10)
+    if not max(gauges) < length:
+        raise checks.InputError(f"length must exceed the farthest gauge ({max(gauges):g} m), got {length:g} m.")
+    # no wave returns to a gauge from the far end within the run (even were the absorbing end a wall)
+    horizon = max(gauges) + np.sqrt(g * depth) * t_end
+    if horizon > 2 * length - max(gauges):
+        raise checks.InputError(f"length = {length:g} m lets a wave reflected at the far end reach the gauges before "
+                                f"t_end = {t_end:g} s: use length >= {0.5 * (horizon + max(gauges)):.4g} m.")
+    return depth, length, t_end, nx_out, g
+
+
+def _prins(name, Q, L, depth, length, t_end, nx_out, g):
+    Q, L = checks.number("Q", Q), checks.positive("L", L)
+    if Q == 0.0:
+        raise checks.InputError("Q must be non-zero (the height of the released box of water).")
+    depth, length, t_end, nx_out, g = _checked_wave_scene(depth, length, t_end, nx_out, g, exact.PRINS_GAUGES)
+    if not -Q < depth:
+        raise checks.InputError(f"Q must be above -depth = {-depth:g} m (water left in the box), got {Q:g} m.")
+    return _linear_wave_scene(
+        name, exact.Mound(Q, L), "planar", depth, length, exact.PRINS_GAUGES, t_end, nx_out, g,
+        dict(Q=Q, L=L, depth=depth, length=length, t_end=t_end, nx_out=nx_out, g=g),
+        "Waves from a box of water raised or lowered by Q over 0 <= x <= L, released at rest (Prins 1958); "
+        "measured: first crest at each gauge against linear dispersive theory.")
+
+
+@scene_builder("cavity_collapse")
+def cavity_collapse(D_c=0.3, R_c=0.6, depth=1.0, geometry="planar", length=25.0, t_end=10.0, nx_out=1250, g=9.81):
+    """An explosion cavity with a rim, eta0 = D_c (2 (r/R_c)^2 - 1) for r <= R_c, released at rest; gauges at 2, 4, 6 m."""
+    D_c, R_c = checks.positive("D_c", D_c), checks.positive("R_c", R_c)
+    geometry = checks.choice("geometry", geometry, ("planar", "radial"))
+    depth, length, t_end, nx_out, g = _checked_wave_scene(depth, length, t_end, nx_out, g, exact.CRATER_GAUGES)
+    if not D_c < depth:
+        raise checks.InputError(f"D_c must be below depth = {depth:g} m (the cavity's floor in the water), got {D_c:g} m.")
+    return _linear_wave_scene(
+        "cavity_collapse", exact.Crater(D_c, R_c), geometry, depth, length, exact.CRATER_GAUGES, t_end, nx_out, g,
+        dict(D_c=D_c, R_c=R_c, depth=depth, geometry=geometry, length=length, t_end=t_end, nx_out=nx_out, g=g),
+        "Waves from a collapsing explosion cavity with a rim; measured: first crest at each gauge against linear "
+        "dispersive theory.")

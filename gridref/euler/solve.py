@@ -106,12 +106,21 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
 
-    def advance(U, dt, t):
-        U, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-        return U, dt_cfl, probes, forces
+    def advance(U, t, t_out, dt_cfl):
+        """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
+        dt = min(dt_cfl, t_out - t)
+        U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+        if not np.isfinite(dt_cfl):
+            failed[:] = [U_new, t + dt]
+            return U, t, dt_cfl, probes, forces, 0
+        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
 
-    return march(run, U, t, dt_cfl, t_end, advance,
-                 lambda U, t, step, dt: _diagnose(U, gamma, grid, t, step, dt, run.solid), ckpt, bar)
+    def diagnose(U, t, step, dt):
+        bad_U, bad_t = failed or (U, t)
+        return _diagnose(bad_U, gamma, grid, bad_t, step, dt, run.solid)
+
+    failed = []  # the state a failed step produced, and its time
+    return march(run, U, t, dt_cfl, t_end, advance, diagnose, ckpt, bar)
 
 
 def _immersed(scene, grid, dx):

@@ -24,26 +24,56 @@ SETTINGS = ("dx", "cfl", "limiter", "t_end", "checkpoint", "checkpoint_every", "
 
 
 class Stepper:
-    """The jitted SSP-RK2 step and CFL time step of one run:
-    ``stepper(U, dt) -> (U, dt_next, eta at the gauges)``."""
+    """The jitted SSP-RK2 steps of one run.
+
+    ``stepper(U, t, target, t_out, dt_cfl) -> (U, t, dt_cfl, eta at the
+    gauges, steps, dt_tried)`` steps at the CFL time step until ``target``
+    is reached or passed (the last step is cut to end at ``t_out``, never
+    past it) in one compiled loop (``lax.while_loop``: no return to Python
+    between steps);
+    a step that would make the state non-physical is not taken, the loop
+    stops and ``dt_cfl`` is NaN (``step(U, dt_tried)`` then gives the bad
+    state). ``initial_dt(U)`` is the first CFL step.
+    """
 
     def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
         def step(U, dt):
-            U = ssp_rk2(U, z, dt, scheme, radius)
-            eta = (U[0] + z).ravel()[gauge_index]
-            return U, stable_dt(U, scheme), jnp.sum(eta * gauge_weight, axis=-1)
+            return ssp_rk2(U, z, dt, scheme, radius)
 
-        self._step = jax.jit(step)
+        def steps_to(U, t, target, t_out, dt_cfl):
+            def going(c):
+                return c[4] & (c[1] < target * (1 - 1e-14))
+
+            def one(c):
+                U, t, dt_cfl, n, _, _ = c
+                dt = jnp.minimum(dt_cfl, t_out - t)
+                U_new = step(U, dt)
+                dt_new = stable_dt(U_new, scheme)
+                good = jnp.isfinite(dt_new)
+                t_new = jnp.where(t + dt >= t_out * (1 - 1e-14), t_out, t + dt)
+                U = tuple(jnp.where(good, a, b) for a, b in zip(U_new, U))
+                return U, jnp.where(good, t_new, t), dt_new, n + good.astype(n.dtype), good, dt
+
+            start = (U, jnp.asarray(t, float), jnp.asarray(dt_cfl, float), jnp.asarray(0), jnp.asarray(True),
+                     jnp.asarray(0.0))
+            U, t, dt_cfl, n, _, dt_tried = jax.lax.while_loop(going, one, start)
+            eta = (U[0] + z).ravel()[gauge_index]
+            return U, t, dt_cfl, jnp.sum(eta * gauge_weight, axis=-1), n, dt_tried
+
+        self.step = jax.jit(step)
+        self._steps_to = jax.jit(steps_to)
         self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme))
 
-    def __call__(self, U, dt):
-        U, dt_next, gauges = self._step(U, dt)
-        return U, float(dt_next), gauges
+    def __call__(self, U, t, target, t_out, dt_cfl):
+        U, t, dt_cfl, gauges, n, dt_tried = self._steps_to(U, t, target, t_out, dt_cfl)
+        return U, float(t), float(dt_cfl), gauges, int(n), float(dt_tried)
 
     def compile(self, U) -> float:
-        """Compile the step for these shapes; return the seconds spent."""
+        """Compile the steps for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
-        jax.block_until_ready(self._step(U, self.initial_dt(U)))
+        dt = float(self.initial_dt(U))
+        jax.block_until_ready(self._steps_to(U, 0.0, dt, dt, dt))
+        jax.block_until_ready(self.step(U, dt))
         return _time.perf_counter() - t0
 
 
@@ -93,9 +123,17 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", t_end=None, progress=True, che
         U, t, dt_cfl = tuple(jnp.asarray(a) for a in saved["U"]), saved["t"], saved["dt_cfl"]
     bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"swe {scene.name}", leave=False,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
-    no_forces = np.zeros(2 * scene.dim)
-    return march(run, U, t, dt_cfl, t_end, lambda U, dt, t: (*stepper(U, dt), no_forces), run.diagnosis, ckpt, bar)
+    no_forces, dt_probe = np.zeros(2 * scene.dim), scene.output.dt_probe
 
+    def advance(U, t, t_out, dt_cfl):
+        """The steps up to the next probe sample time (or ``t_out``), in one compiled loop."""
+        target = min(t_out, (np.floor(t / dt_probe + 1e-9) + 1.0) * dt_probe)
+        U, t, dt_cfl, gauges, steps, dt_tried = stepper(U, t, target, t_out, dt_cfl)
+        if not np.isfinite(dt_cfl):
+            run.failed_step = (stepper.step(U, dt_tried), t + dt_tried)
+        return U, t, dt_cfl, gauges, no_forces, steps
+
+    return march(run, U, t, dt_cfl, t_end, advance, run.diagnosis, ckpt, bar)
 
 class _Run(RunRecord):
     """The record of one swe run; frames are kept on the solver grid and
@@ -104,6 +142,7 @@ class _Run(RunRecord):
     def __init__(self, scene, grid, z, settings, compile_seconds, history):
         super().__init__(scene, "swe", settings, compile_seconds, history)
         self.grid, self.z = grid, z
+        self.failed_step = None  # (state, time) a step that turned non-physical produced
 
     def fields(self, U) -> dict:
         h = np.asarray(U[0])
@@ -115,7 +154,9 @@ class _Run(RunRecord):
         return {name: values[name] for name in self.scene.fields}
 
     def diagnosis(self, U, t, step, dt) -> str:
-        """One sentence: when, where and what went wrong."""
+        """One sentence: when, where and what went wrong (in the state a
+        failed step produced, if there was one, else in ``U``)."""
+        U, t = self.failed_step or (U, t)
         h = np.asarray(U[0])
         bad = ~(h >= 0.0) | ~np.all([np.isfinite(np.asarray(a)) for a in U], axis=0)
         if np.any(bad):
