@@ -56,12 +56,17 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
     return _save(fig, path)
 
 
-def series(runs, var: str, path, probe: str | None = None, names=None, scale: float = 1.0, unit: str | None = None) -> Path:
-    """Time series ``var`` (``p_probe`` at ``probe``, ``wall_force``,
-    ``wall_impulse``) of every run, overlaid; ``scale`` multiplies the time
-    axis (e.g. 1e3 for ms, named by ``unit``)."""
+def series(runs, var: str, path, probe: str | None = None, names=None, scale: float = 1.0, unit: str | None = None,
+           reference: xr.Dataset | None = None) -> Path:
+    """Time series ``var`` (``p_probe`` or ``eta_probe`` at ``probe``,
+    ``wall_force``, ``wall_impulse``) of every run, overlaid, with the
+    reference's as a black line where it has that series; ``scale``
+    multiplies the time axis (e.g. 1e3 for ms, named by ``unit``)."""
     names = names or [None] * len(runs)
     fig, ax = plt.subplots(figsize=(7, 4.2))
+    if reference is not None and var in reference:
+        ref = reference[var].sel(probe=probe) if probe is not None else reference[var]
+        ax.plot(reference.t_probe * scale, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
     for ds, name in zip(runs, names):
         y = ds[var].sel(probe=probe) if probe is not None else ds[var]
         ax.plot(ds.t_probe * scale, y, lw=1.0, label=_label(ds, name))

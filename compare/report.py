@@ -164,17 +164,20 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     df = table(runs, reference, names)
     write_table(df, folder)
     first = runs[0]
+    water = "eta" in first
     if "y" in first.dims:
-        for field in (f for f in ("rho", "p") if f in first):
+        for field in (f for f in ("rho", "p", "eta") if f in first):
             plots.field_maps(runs, field, folder / f"{field}_maps.png", reference=reference, names=names)
-        plots.schlieren_maps(runs, folder / "schlieren.png", names=names)
+        if not water:
+            plots.schlieren_maps(runs, folder / "schlieren.png", names=names)
     else:
-        for field in (f for f in ("rho", "u", "p") if f in first):
+        for field in (f for f in ("rho", "u", "p", "eta") if f in first):
             plots.profiles(runs, field, folder / f"{field}.png", reference=reference, names=names)
-    if "p_probe" in first:
+    for series in (s for s in ("p_probe", "eta_probe") if s in first):
         for probe in first.probe.values:
-            plots.series(runs, "p_probe", folder / f"probe_{probe}.png", probe=str(probe), names=names,
-                         scale=1e3, unit="ms")
+            # gauge records in seconds, blast probes in milliseconds
+            plots.series(runs, series, folder / f"probe_{probe}.png", probe=str(probe), names=names,
+                         reference=reference, **({} if water else {"scale": 1e3, "unit": "ms"}))
     for var in (v for v in ("wall_force", "wall_impulse") if v in first):
         plots.series(runs, var, folder / f"{var}.png", names=names, scale=1e3, unit="ms")
     convergence = grid_convergence(df, first.attrs.get("measured_quantities", "").split())
@@ -186,8 +189,9 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
             plots.richardson(df, convergence, folder / "richardson.png",
                              f"{first.attrs['case']}: measured quantities to t = {float(first.time[-1]):.4g} s "
                              "against resolution")
-    if reference is not None and "rho_L1" in df and (df["rho_L1"] > 0).any():
-        title = f"{first.attrs['case']}: L1 density error against {versus} at t = {df['error_time'].max():.4g} s"
-        plots.speed_versus_error(df, "rho_L1", folder / "speed_versus_error.png", title)
-        plots.convergence(df, "rho_L1", folder / "convergence.png", title)
+    error, what = ("eta_L1", "surface elevation") if water else ("rho_L1", "density")
+    if reference is not None and error in df and (df[error] > 0).any():
+        title = f"{first.attrs['case']}: L1 {what} error against {versus} at t = {df['error_time'].max():.4g} s"
+        plots.speed_versus_error(df, error, folder / "speed_versus_error.png", title)
+        plots.convergence(df, error, folder / "convergence.png", title)
     return df
