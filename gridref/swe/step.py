@@ -28,6 +28,11 @@ are weighted by the face radius, the cell by its centre radius, and the
 hoop term ``g h²/(2r)`` is taken as ``g (h⁻²_{i+½} + h⁺²_{i−½})/(4 r_i)``,
 which balances the pressure fluxes of a lake at rest exactly.
 
+The ghosted state, the face values and the fluxes are each materialised
+(``jax.lax.optimization_barrier``): fused into their consumers, XLA:CPU
+recomputes them for every use (``rates`` on 512² cells: 148 ms fused, 102 ms
+with the barriers).
+
 Velocities are recovered from the momenta with Kurganov & Petrova's (2007)
 desingularisation ``u = 2 h (h u)/(h² + max(h², ε²))`` (ε = ``DRY`` m), so a
 nearly dry cell cannot produce a large velocity.
@@ -136,7 +141,7 @@ def rates(U, z, scheme: Scheme, radius=None):
     and face radii ``(r_c, r_f)`` of a radial run."""
     g, dim = scheme.g, scheme.dim
     limiter = LIMITERS[scheme.limiter]
-    Wg = with_ghosts((U[0], *velocities(U), z), scheme)
+    Wg = jax.lax.optimization_barrier(with_ghosts((U[0], *velocities(U), z), scheme))
     axes = [axis_of(dim, d) for d in range(dim)]
     out = [jnp.zeros_like(U[0]) for _ in U]
     for d, axis in enumerate(axes):
@@ -148,6 +153,7 @@ def rates(U, z, scheme: Scheme, radius=None):
         slopes = [limited_slopes(a, axis, limiter) for a in (h, eta, *vel)]
         plus = [c + 0.5 * s for c, s in zip(cells, slopes)]   # values at each cell's upper face
         minus = [c - 0.5 * s for c, s in zip(cells, slopes)]  # values at each cell's lower face
+        plus, minus = jax.lax.optimization_barrier((plus, minus))
         # face j lies between cells j and j + 1 of these rows: left state from plus, right from minus
         (hL, etaL, *velL), (hR, etaR, *velR) = ([_trimmed(a, axis, 0, 1) for a in plus],
                                                 [_trimmed(a, axis, 1, 0) for a in minus])
@@ -157,7 +163,8 @@ def rates(U, z, scheme: Scheme, radius=None):
         normal_L, normal_R = velL[d], velR[d]
         tangential_L = velL[1 - d] if dim == 2 else jnp.zeros_like(hL)
         tangential_R = velR[1 - d] if dim == 2 else jnp.zeros_like(hR)
-        mass, mom_n, mom_t = hllc(hL_star, normal_L, tangential_L, hR_star, normal_R, tangential_R, g)
+        mass, mom_n, mom_t = jax.lax.optimization_barrier(
+            hllc(hL_star, normal_L, tangential_L, hR_star, normal_R, tangential_R, g))
         from_left = mom_n + 0.5 * g * (hL * hL - hL_star * hL_star)    # the flux cell j sees at its upper face
         from_right = mom_n + 0.5 * g * (hR * hR - hR_star * hR_star)   # the flux cell j + 1 sees at its lower face
         # each interior cell i: its upper face is face i + 1, its lower face face i; its own face values
