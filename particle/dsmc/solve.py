@@ -130,6 +130,7 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
                     t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                     run.n_steps += 1
                     bar.update(dt)
+                    bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
                     if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
                         gas.sample_into(frame)
                     ckpt.step_done(run, t, lambda: {"t": t, "frame": frame, "gas": gas.saved()},

@@ -422,6 +422,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     _observe_inlet(inflow, P, E, t, eta)
                     run.n_steps += 1
                     bar.update(dt)
+                    bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
                     if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
                         sampled = _pressure_at(sph, P, E, sample_points)
                         run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
