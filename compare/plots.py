@@ -32,7 +32,8 @@ def _reference_name(reference: xr.Dataset) -> str:
 
 
 def _axis_label(var: xr.DataArray) -> str:
-    return f"{var.attrs.get('long_name', var.name)} [{var.attrs.get('units', '')}]"
+    """``long name [units]``, the long name up to its first comma (an axis has no room for the rest)."""
+    return f"{var.attrs.get('long_name', var.name).split(',')[0]} [{var.attrs.get('units', '')}]"
 
 
 def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None) -> Path:
@@ -45,13 +46,18 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
         ref = reference[field].sel(time=t, method="nearest")
         # on top of the runs: a particle method's scatter would hide it
         ax.plot(reference.x, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
-    for ds, name in zip(runs, names):
-        ax.plot(ds.x, ds[field].sel(time=t, method="nearest"), ".-", ms=3, lw=0.8, label=_label(ds, name))
+    values = [ds[field].sel(time=t, method="nearest") for ds in runs]
+    # the roughest profile (a particle method's noise) drawn first, so it does not hide the smooth ones;
+    # the legend keeps the runs' order
+    roughness = [float(np.nansum(np.abs(np.diff(v.values)))) for v in values]
+    lines = {k: ax.plot(runs[k].x, values[k], ".-", ms=3, lw=0.8, color=f"C{k}", label=_label(runs[k], names[k]))[0]
+             for k in np.argsort(roughness)[::-1]}
     var = runs[0][field]
     ax.set_xlabel(_axis_label(runs[0].x))
     ax.set_ylabel(_axis_label(var))
     ax.set_title(f"{runs[0].attrs['case']}: {var.attrs.get('long_name', field)} at t = {t:.4g} s")
-    ax.legend(fontsize=8)
+    handles = ax.get_lines()[:1] if reference is not None else []
+    ax.legend(handles=handles + [lines[k] for k in range(len(runs))], fontsize=8)
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
