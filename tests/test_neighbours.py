@@ -32,7 +32,7 @@ def check_against_brute(x, H, lo, hi, periodic, **kw):
     n = len(x)
     hit, d = brute(x, H, lo, hi, periodic)
     assert offsets.shape == (n + 1,) and offsets[0] == 0 and np.all(np.diff(offsets) >= 0)
-    assert index.dtype == np.int64 and offsets.dtype == np.int64
+    assert index.dtype == np.int32 and offsets.dtype == np.int64
     assert dx.shape == (len(index), np.asarray(x).reshape(n, -1).shape[1])
     assert offsets[-1] == hit.sum()
     for i in range(n):
