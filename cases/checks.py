@@ -25,7 +25,7 @@ def cfl(value) -> float:
 
 def check_scene(scene) -> None:
     """Consistency of a whole scene: domain, boundaries, output times, probes."""
-    from cases.scene import BOUNDARY_KINDS, Inflow
+    from cases.scene import Inflow
 
     if scene.dim not in (1, 2) or len(scene.domain) != scene.dim:
         raise InputError(f"scene {scene.name}: dim must be 1 or 2 with one (lo, hi) pair per axis.")
@@ -34,11 +34,11 @@ def check_scene(scene) -> None:
             raise InputError(f"scene {scene.name}: domain along {axis} must have hi > lo, got [{lo:g}, {hi:g}].")
     positive("t_end", scene.t_end)
     positive("dx", scene.dx)
-    kinds = scene.boundary_kinds
+    gas = scene.medium == "gas"  # (an Inflow imposes a gas state)
     for side in scene.sides:
         kind = scene.boundaries.get(side)
-        if not (kind in kinds or (kinds == BOUNDARY_KINDS and isinstance(kind, Inflow))):
-            allowed = ", ".join(kinds) + (" or an Inflow" if kinds == BOUNDARY_KINDS else "")
+        if not (kind in scene.boundary_kinds or (gas and isinstance(kind, Inflow))):
+            allowed = ", ".join(scene.boundary_kinds) + (" or an Inflow" if gas else "")
             raise InputError(f"scene {scene.name}: boundary {side} must be one of {allowed}, got {kind!r}.")
     for lo_side, hi_side in zip(scene.sides[::2], scene.sides[1::2]):
         if (scene.boundaries[lo_side] == "periodic") != (scene.boundaries[hi_side] == "periodic"):

@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from tqdm.auto import tqdm
+
 from cases.errors import SolverFailed
 from compare.schema import result
 
@@ -84,6 +86,17 @@ class RunRecord(ABC):
         self.compile_seconds, self.history = compile_seconds, history
         self.frames, self.frame_times, self.n_steps = [], [], 0
         self.t_start = _time.perf_counter()
+        #: (state, time) that a step which turned the state non-physical produced, for the diagnosis
+        self.failed_step = None
+
+    def progress_bar(self, t: float, t_end: float, progress: bool):
+        """The run's progress bar from ``t`` to ``t_end``: simulated time, wall
+        time and its estimate to the end, and the step count the solver
+        posts (``set_postfix_str``); none when ``progress`` is False or the
+        output is not a terminal."""
+        return tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"{self.method} {self.scene.name}",
+                    leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
+                                            "[{elapsed}<{remaining}] {postfix}")
 
     def add_frame(self, fields: dict, t: float) -> None:
         """Keep the fields (name -> array) of output time ``t``."""

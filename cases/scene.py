@@ -88,8 +88,28 @@ class OutputGrid:
         return t if np.isclose(t[-1], t_end) else np.append(t, t_end)
 
 
+class _Scenes:
+    """What every scene, gas or water, answers: its sides, its exact
+    solution and its parameters."""
+
+    @property
+    def sides(self) -> tuple[str, ...]:
+        return SIDES[: 2 * self.dim]
+
+    def exact(self, times=None):
+        """The exact solution at ``times`` (default: the output times) as a
+        schema Dataset, or ``None`` where the scene has none."""
+        if self.exact_solution is None:
+            return None
+        return self.exact_solution(np.asarray(self.output.times if times is None else times, float))
+
+    def to_dict(self) -> dict:
+        """The scene's parameters in JSON-able form (stored in every result)."""
+        return {"case": self.name, **self.parameters}
+
+
 @dataclass(frozen=True)
-class Scene:
+class Scene(_Scenes):
     """One scene of the toolkit (see SPEC §4).
 
     ``initial(x, y, dx)`` returns primitive ``(rho, u, v, p)`` arrays at the
@@ -133,24 +153,10 @@ class Scene:
         check_scene(self)
         in_range("gamma", self.gamma, 1.0, 5.0, lo_open=True)
 
-    @property
-    def sides(self) -> tuple[str, ...]:
-        return SIDES[: 2 * self.dim]
-
-    def exact(self, times=None):
-        """The exact solution at ``times`` (default: the output times) as a
-        schema Dataset, or ``None`` where the scene has none."""
-        if self.exact_solution is None:
-            return None
-        return self.exact_solution(np.asarray(self.output.times if times is None else times, float))
-
-    def to_dict(self) -> dict:
-        """The scene's parameters in JSON-able form (stored in every result)."""
-        return {"case": self.name, **self.parameters}
 
 
 @dataclass(frozen=True)
-class WaterScene:
+class WaterScene(_Scenes):
     """A free-surface water scene (SPEC §4.3): still water whose surface is
     at η = 0, over the bed ``bed(x, y)`` (its elevation z [m], negative
     below the still surface: a flat bottom of depth d is ``z = −d``).
@@ -204,7 +210,3 @@ class WaterScene:
             raise InputError(f"scene {self.name}: a radial scene is 1D over r in [0, R] with the axis at x_lo.")
         if "axis" in [self.boundaries[s] for s in self.sides] and self.geometry != "radial":
             raise InputError(f"scene {self.name}: the boundary kind 'axis' belongs to radial scenes only.")
-
-    sides = Scene.sides
-    exact = Scene.exact
-    to_dict = Scene.to_dict

@@ -23,6 +23,15 @@ def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Gri
     return grids.Grid(tuple(shape), domain=tuple(domain))
 
 
+def cropped(a, axes, k=1):
+    """The array ``a`` with ``k`` cells removed at both ends of every axis in
+    ``axes`` (ghost layers off a padded field)."""
+    index = [slice(None)] * a.ndim
+    for axis in axes:
+        index[axis] = slice(k, a.shape[axis] - k)
+    return a[tuple(index)]
+
+
 def cell_centres(grid: grids.Grid) -> list[np.ndarray]:
     """Cell-centre coordinates along each axis (x first)."""
     return [np.asarray(a) for a in grid.axes()]

@@ -6,7 +6,6 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
 
 from cases.checks import cfl as check_cfl
 from cases.checks import check_initial_state, check_obstacles, choice, positive
@@ -22,6 +21,7 @@ from gridref.euler.state import conservative, primitive
 from gridref.euler.step import Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from gridref.march import march
+
 
 def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
@@ -103,23 +103,21 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     saved = ckpt.saved_state(run)
     if saved is not None:
         U, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["U"]), saved["t"], saved["dt_cfl"]
-    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"fv {scene.name}", leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
+    bar = run.progress_bar(t, t_end, progress)
 
     def advance(U, t, t_out, dt_cfl):
         """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
         dt = min(dt_cfl, t_out - t)
         U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
         if not np.isfinite(dt_cfl):
-            failed[:] = [U_new, t + dt]
+            run.failed_step = (U_new, t + dt)
             return U, t, dt_cfl, probes, forces, 0
         return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
 
     def diagnose(U, t, step, dt):
-        bad_U, bad_t = failed or (U, t)
-        return _diagnose(bad_U, gamma, grid, bad_t, step, dt, run.solid)
+        U, t = run.failed_step or (U, t)
+        return _diagnose(U, gamma, grid, t, step, dt, run.solid)
 
-    failed = []  # the state a failed step produced, and its time
     return march(run, U, t, dt_cfl, t_end, advance, diagnose, ckpt, bar)
 
 

@@ -34,14 +34,7 @@ from gridref.euler.boundaries import N_GHOST, axis_of, with_ghosts
 from gridref.euler.reconstruct import LIMITERS, limited_slopes
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import primitive, rotated, sound_speed
-
-
-def _crop(a, axes, k=1):
-    """``a`` with ``k`` cells removed at both ends of every axis in ``axes``."""
-    index = [slice(None)] * a.ndim
-    for axis in axes:
-        index[axis] = slice(k, a.shape[axis] - k)
-    return a[tuple(index)]
+from gridref.grid import cropped
 
 
 def _shifted(a, axis, lo):
@@ -111,7 +104,7 @@ def slopes_of(Wg, scheme: Scheme):
     axes = scheme.axes
     limiter = LIMITERS[scheme.limiter]
     return [
-        tuple(_crop(limited_slopes(a, axes[d], limiter), [b for b in axes if b != axes[d]], N_GHOST - 1) for a in Wg)
+        tuple(cropped(limited_slopes(a, axes[d], limiter), [b for b in axes if b != axes[d]], N_GHOST - 1) for a in Wg)
         for d in range(scheme.dim)
     ]
 
@@ -122,7 +115,7 @@ def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
     ``allowed`` (elsewhere ``W^{n+1/2} = W`` and the slopes are ignored: the
     cell is first order)."""
     gamma, dx = scheme.gamma, scheme.dx
-    Wc = tuple(_crop(a, scheme.axes, N_GHOST - 1) for a in Wg)
+    Wc = tuple(cropped(a, scheme.axes, N_GHOST - 1) for a in Wg)
     changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
     Wh = tuple(w - (0.5 * dt) * sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k, w in enumerate(Wc))
     ok = True if allowed is None else allowed
@@ -138,8 +131,8 @@ def face_flux(Wh, slopes_d, ok, d, scheme: Scheme):
     axes = scheme.axes
     others = [b for b in axes if b != axes[d]]
     s = tuple(jnp.where(ok, a, 0.0) for a in slopes_d)
-    left = tuple(_crop(_shifted(w + 0.5 * ds, axes[d], True), others) for w, ds in zip(Wh, s))
-    right = tuple(_crop(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
+    left = tuple(cropped(_shifted(w + 0.5 * ds, axes[d], True), others) for w, ds in zip(Wh, s))
+    right = tuple(cropped(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
     flux = RIEMANN_SOLVERS[scheme.riemann]
     return rotated(flux(rotated(left, d), rotated(right, d), scheme.gamma), d)
 

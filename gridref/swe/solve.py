@@ -8,7 +8,6 @@ import time as _time
 import jax
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
 
 from cases.checkpoint import checkpoint_for
 from cases.checks import choice, in_range, positive
@@ -33,7 +32,8 @@ class Stepper:
     between steps);
     a step that would make the state non-physical is not taken, the loop
     stops and ``dt_cfl`` is NaN (``step(U, dt_tried)`` then gives the bad
-    state). ``initial_dt(U)`` is the first CFL step.
+    state; compiled only when a step fails). ``initial_dt(U)`` is the first
+    CFL step.
     """
 
     def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
@@ -73,7 +73,6 @@ class Stepper:
         t0 = _time.perf_counter()
         dt = float(self.initial_dt(U))
         jax.block_until_ready(self._steps_to(U, 0.0, dt, dt, dt))
-        jax.block_until_ready(self.step(U, dt))
         return _time.perf_counter() - t0
 
 
@@ -121,8 +120,7 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", t_end=None, progress=True, che
     saved = ckpt.saved_state(run)
     if saved is not None:
         U, t, dt_cfl = tuple(jnp.asarray(a) for a in saved["U"]), saved["t"], saved["dt_cfl"]
-    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"swe {scene.name}", leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
+    bar = run.progress_bar(t, t_end, progress)
     no_forces, dt_probe = np.zeros(2 * scene.dim), scene.output.dt_probe
 
     def advance(U, t, t_out, dt_cfl):
@@ -135,6 +133,7 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", t_end=None, progress=True, che
 
     return march(run, U, t, dt_cfl, t_end, advance, run.diagnosis, ckpt, bar)
 
+
 class _Run(RunRecord):
     """The record of one swe run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
@@ -142,7 +141,6 @@ class _Run(RunRecord):
     def __init__(self, scene, grid, z, settings, compile_seconds, history):
         super().__init__(scene, "swe", settings, compile_seconds, history)
         self.grid, self.z = grid, z
-        self.failed_step = None  # (state, time) a step that turned non-physical produced
 
     def fields(self, U) -> dict:
         h = np.asarray(U[0])

@@ -48,12 +48,11 @@ import numpy as np
 
 from gridref.euler.boundaries import N_GHOST, axis_of, ghost_layer
 from gridref.euler.reconstruct import LIMITERS, limited_slopes
+from gridref.grid import cropped
 from gridref.swe.fluxes import hllc
 
 #: depth [m] below which a cell counts as dry for its velocity (desingularisation ε)
 DRY = 1e-6
-#: boundary kinds of the shallow-water model (``axis``: the symmetry axis r = 0 of a radial run)
-KINDS = ("reflect", "outflow", "absorbing", "periodic", "axis")
 
 
 @dataclass(frozen=True)
@@ -62,7 +61,7 @@ class Scheme:
 
     g: float
     dx: tuple[float, ...]
-    kinds: tuple[str, ...]  # boundary kind per side: x_lo, x_hi[, y_lo, y_hi]
+    kinds: tuple[str, ...]  # boundary kind per side, x_lo, x_hi[, y_lo, y_hi] (cases.scene.WaterScene.boundary_kinds)
     radial: bool = False
     limiter: str = "mc"
     cfl: float = 0.25
@@ -79,7 +78,7 @@ def velocities(U):
     return tuple(m * inverse for m in U[1:])
 
 
-def _absorbing(W, axis, side, g, still):
+def _absorbing(W, axis, side, g):
     """Ghost cells beyond an absorbing side: the outgoing Riemann invariant
     ``u_n + 2c`` from the edge cell, the incoming one ``−2 sqrt(g h₀)`` of
     still water (``h₀ = max(0, −z)``, the surface at rest at η = 0), the
@@ -93,7 +92,7 @@ def _absorbing(W, axis, side, g, still):
     d = len(vel) - 1 - axis  # the direction normal to this side
     he, ze = take(h), take(z)
     un = sign * take(vel[d])
-    c_out, c_still = jnp.sqrt(g * he), jnp.sqrt(g * jnp.maximum(still - ze, 0.0))
+    c_out, c_still = jnp.sqrt(g * he), jnp.sqrt(g * jnp.maximum(-ze, 0.0))
     un_b = 0.5 * (un + 2.0 * c_out - 2.0 * c_still)
     c_b = 0.25 * (un + 2.0 * c_out + 2.0 * c_still)
     edge = [c_b * c_b / g] + [take(v) for v in vel] + [ze]
@@ -109,7 +108,7 @@ def with_ghosts(W, scheme: Scheme):
         sides = []
         for side, kind in zip(("lo", "hi"), scheme.kinds[2 * d: 2 * d + 2]):
             if kind == "absorbing":
-                sides.append(_absorbing(W, axis, side, scheme.g, 0.0))
+                sides.append(_absorbing(W, axis, side, scheme.g))
             else:
                 rule = "reflect" if kind == "axis" else kind
                 sides.append(tuple(ghost_layer(a, axis, side, rule, flip=(k == 1 + d)) for k, a in enumerate(W)))
@@ -121,13 +120,6 @@ def _across(upper, lower, axis):
     """Per cell, the face quantity ``upper`` at its upper face minus
     ``lower`` at its lower face (both given on all faces)."""
     return _trimmed(upper, axis, 1, 0) - _trimmed(lower, axis, 0, 1)
-
-
-def _crop(a, axes, k):
-    index = [slice(None)] * a.ndim
-    for axis in axes:
-        index[axis] = slice(k, a.shape[axis] - k)
-    return a[tuple(index)]
 
 
 def _trimmed(a, axis, lo, hi):
@@ -146,7 +138,7 @@ def rates(U, z, scheme: Scheme, radius=None):
     out = [jnp.zeros_like(U[0]) for _ in U]
     for d, axis in enumerate(axes):
         others = [a for a in axes if a != axis]
-        h, *vel, zg = (_crop(a, others, N_GHOST) for a in Wg)
+        h, *vel, zg = (cropped(a, others, N_GHOST) for a in Wg)
         eta = h + zg
         # cells 1 .. n+2 of the ghosted row (one ghost layer each side) with their limited slopes
         cells = [_trimmed(a, axis, 1, 1) for a in (h, eta, *vel)]

@@ -31,7 +31,6 @@ import time as _time
 
 import numba
 import numpy as np
-from tqdm.auto import tqdm
 
 from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import choice, in_range, integer, positive
@@ -119,8 +118,7 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
     if saved is not None:
         t, frame = saved["t"], saved["frame"]
         gas.restore(saved["gas"])
-    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"dsmc {scene.name}", leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
+    bar = run.progress_bar(t, t_end, progress)
     with ckpt.watching_signals():
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)

@@ -21,7 +21,6 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 import xarray as xr
-from tqdm.auto import tqdm
 
 from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import check_obstacles, choice, in_range, positive
@@ -364,8 +363,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         sph.lists = None
         if inflow:
             inflow.inflowed, inflow.adjacent = saved["inflow"]
-    bar = tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"sph {scene.name}", leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s [{elapsed}<{remaining}] {postfix}")
+    bar = run.progress_bar(t, t_end, progress)
     with ckpt.watching_signals():
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
