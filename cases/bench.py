@@ -13,7 +13,7 @@ import platform
 from pathlib import Path
 
 from cases.registry import get
-from cases.run import methods, run
+from cases.run import methods, run, solver
 from compare.metrics import field_error
 
 #: sod L1(rho) targets for time-to-accuracy (SPEC §7)
@@ -33,30 +33,55 @@ def _machine() -> dict:
 
 #: method -> (metric, unit) of its throughput record
 THROUGHPUT = {"fv": ("cell_updates_per_s", "cells/s"), "sph": ("particle_steps_per_s", "particles/s"),
-              "dsmc": ("particle_steps_per_s", "particles/s")}
+              "dsmc": ("particle_steps_per_s", "particles/s"), "swe": ("cell_updates_per_s", "cells/s"),
+              "wcsph": ("particle_steps_per_s", "particles/s")}
+
+
+def _sedov(size: int):
+    scene = get("sedov", n_out=size)
+    return scene, scene.dx
+
+
+def _square_dam_break(size: int):
+    scene = get("dam_break", dim=2, nx_out=size)
+    return scene, scene.dx
+
+
+def _prins_flume(size: int):
+    scene = get("prins_mound")
+    return scene, scene.depth / size
+
+
+#: method -> the problem of its throughput: ``problem(size) -> (scene, dx)``
+PROBLEMS = {"fv": _sedov, "sph": _sedov, "dsmc": _sedov, "swe": _square_dam_break, "wcsph": _prins_flume}
 
 
 def throughput(method: str, size: int, t_end: float) -> list[dict]:
-    """Elements advanced per second by ``method`` on 2D Sedov with ``size``²
-    cells or particles (float64) run to ``t_end``, compile time excluded
-    (output frames included). Defaults used by :func:`bench`: FV at 512² to
-    0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3 (about
-    20 steps), DSMC on 258² cells of 30 particles (2.0 million) to 8e-3
-    (about 45 steps: move, sort, redraw and sampling). SPH adds the interactions per second of its force pass (the
+    """Elements advanced per second by ``method`` run to ``t_end``, compile
+    time excluded (output frames included), float64. The gas methods run 2D
+    Sedov with ``size``² cells or particles; :func:`bench` takes FV at 512²
+    to 0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3
+    (about 20 steps), DSMC on 258² cells of 30 particles (2.0 million) to
+    8e-3 (about 45 steps: move, sort, redraw and sampling). ``swe`` runs the
+    dam break across a square basin on ``size``² cells (1024² to 0.05 s,
+    about 90 steps), ``wcsph`` the Prins flume (30 m × 0.7 m) with ``size``
+    particles over the depth (50: 107 000 particles, to 0.01 s, about 45
+    steps). SPH adds the interactions per second of its force pass (the
     ordered pairs i–j with r_ij < max(H_i, H_j) whose terms it summed, over
     the seconds spent in that pass; each pair is evaluated once for both
-    particles)."""
-    scene = get("sedov", n_out=size)
-    ds = run(scene, method, dx=scene.dx, t_end=t_end, progress=False)
+    particles), as does WCSPH (pairs within its one support H)."""
+    scene, dx = PROBLEMS[method](size)
+    ds = run(scene, method, dx=dx, t_end=t_end, progress=False)
     n = ds.attrs["n_elements"]
     metric, unit = THROUGHPUT[method]
-    common = {"method": method, "case": "sedov", "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
+    common = {"method": method, "case": scene.name, "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
               "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"], "precision": "float64"}
     records = [{**common, "metric": metric, "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit}]
-    if method == "sph":
+    if method in ("sph", "wcsph"):
+        passes = [k for k in ("seconds_search", "seconds_density", "seconds_forces") if k in ds.attrs]
         records.append({**common, "metric": "force_interactions_per_s", "unit": "interactions/s",
                         "value": ds.attrs["force_interactions"] / ds.attrs["seconds_forces"],
-                        **{k: ds.attrs[k] for k in ("seconds_search", "seconds_density", "seconds_forces")}})
+                        **{k: ds.attrs[k] for k in passes}})
     return records
 
 
@@ -88,10 +113,12 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
     sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3),
-             "dsmc": (64 if quick else 258, 8e-3)}
+             "dsmc": (64 if quick else 258, 8e-3), "swe": (128 if quick else 1024, 0.05),
+             "wcsph": (12 if quick else 50, 0.01)}
     for method in (m for m in THROUGHPUT if m in methods()):
         records += throughput(method, *sizes[method])
-        records += time_to_accuracy(method)
+        if getattr(solver(method), "medium", "gas") == "gas":  # (sod is a gas scene)
+            records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:8s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"

@@ -141,7 +141,7 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("--scheduler", help="Dask scheduler address for --ensembles (default: a LocalCluster)")
     r.add_argument("-o", "--output", required=True)
     r.add_argument("--particles", action="store_true",
-                   help="also write the last particle state beside the output, as <output>_particles.nc (sph)")
+                   help="also write the last particle state beside the output, as <output>_particles.nc (sph, wcsph)")
     r.add_argument("--checkpoint-every", type=float, dest="checkpoint_every", metavar="SECONDS",
                    help="save the run's state to <output>.checkpoint every SECONDS of wall time and on "
                         "SIGINT/SIGTERM")

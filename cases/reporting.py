@@ -14,13 +14,19 @@ from compare.report import report, scene_of, table
 
 
 def exact_reference(ds):
-    """The exact solution of the scene ``ds`` was run on, at its output times."""
+    """The exact solution of the scene ``ds`` was run on, at its output
+    times, with the quantities the scene measures where its exact solution
+    holds what they are measured from (the gauge records of linear wave
+    theory, for one)."""
     params = dict(scene_of(ds))
     case = params.pop("case")
     times = ds.time.values[ds.time.values > 0.0]  # (a point blast's similarity solution has no t = 0)
-    reference = get(case, **params).exact(times) if times.size else None
+    scene = get(case, **params)
+    reference = scene.exact(times) if times.size else None
     if reference is None:
         raise InputError(f"scene {case} has no exact solution; pass a reference result with --reference FILE.")
+    if scene.measure is not None and all(name in reference for name in ("probe", scene.probe_variable)):
+        reference.attrs.update(scene.measure(reference))  # (gauge crests of linear theory, for one)
     return reference
 
 

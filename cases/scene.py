@@ -169,8 +169,9 @@ class WaterScene(_Scenes):
     ``boundaries`` maps each side to one of :attr:`boundary_kinds`
     (``absorbing``: long waves leave without reflection). ``probes`` are
     wave gauges (the series ``eta_probe``); ``depth`` is the still-water
-    depth that sets the scale (long-wave speed sqrt(g d)). The rest is as
-    in :class:`Scene`.
+    depth that sets the scale (long-wave speed sqrt(g d)). ``fields``
+    defaults to ``eta``, the depth-averaged velocity (``u``, and ``v`` in
+    2D) and the depth ``h``. The rest is as in :class:`Scene`.
     """
 
     name: str
@@ -188,7 +189,7 @@ class WaterScene(_Scenes):
     g: float = 9.81
     rho: float = 1000.0
     probes: tuple[Probe, ...] = ()
-    fields: tuple[str, ...] = ("eta", "u", "h")
+    fields: tuple[str, ...] | None = None
     exact_solution: Callable | None = None
     measure: Callable | None = None
     description: str = ""
@@ -202,6 +203,8 @@ class WaterScene(_Scenes):
     def __post_init__(self):
         from cases.checks import check_scene, choice, positive
 
+        if self.fields is None:  # (the velocity's components: u, and v in 2D)
+            object.__setattr__(self, "fields", ("eta", "u", "v", "h") if self.dim == 2 else ("eta", "u", "h"))
         check_scene(self)
         positive("depth", self.depth)
         positive("g", self.g)

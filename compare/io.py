@@ -7,6 +7,7 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
 from compare.schema import SchemaError, validate
@@ -22,6 +23,27 @@ def write(ds: xr.Dataset, path: str | os.PathLike) -> Path:
 
 #: variables of a particle snapshot (SPEC §2), each on the dimension ``particle``
 PARTICLE_VARIABLES = ("x", "y", "u", "v", "rho", "p", "m", "h", "kind")
+
+
+def particle_snapshot(x, v, rho, p, m, H, kind, kinds: dict, case: str, method: str, time: float,
+                      mass_units: str = "kg m-(3-d)") -> xr.Dataset:
+    """A particle snapshot (SPEC §2) of positions ``x`` and velocities ``v``
+    (n, d), density, pressure, mass, support radius ``H`` (written as
+    h = H/2) and ``kind`` (ints, named by ``kinds``: name -> value)."""
+    dim = x.shape[1]
+    variables = {"x": (x[:, 0], "m", "position x"), "u": (v[:, 0], "m s-1", "velocity x"),
+                 "rho": (rho, "kg m-3", "density"), "p": (p, "Pa", "pressure"),
+                 "m": (m, mass_units, "mass (per unit length/area of the missing dimensions)"),
+                 "h": (0.5 * H, "m", "smoothing length h = H/2 (H: kernel support radius)")}
+    if dim == 2:
+        variables.update(y=(x[:, 1], "m", "position y"), v=(v[:, 1], "m s-1", "velocity y"))
+    ds = xr.Dataset({name: ("particle", a, {"units": units, "long_name": long})
+                     for name, (a, units, long) in variables.items()})
+    ds["kind"] = ("particle", np.asarray(kind, np.int8), {"long_name": "particle kind",
+                                                          "flag_values": list(kinds.values()),
+                                                          "flag_meanings": " ".join(kinds)})
+    ds.attrs.update(case=case, method=method, time=time, Conventions="CF-1.10")
+    return ds
 
 
 def write_particles(ds: xr.Dataset, path: str | os.PathLike) -> Path:

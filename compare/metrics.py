@@ -39,8 +39,18 @@ NORMS = ("L1", "L2", "Linf")
 MEASURED_UNITS = {
     "wall_peak_pressure_raw": "Pa", "wall_peak_pressure_fitted": "Pa", "wall_arrival_time": "s",
     "wall_impulse_final": "N s m-1", "wall_force_peak": "N m-1", "reflection_coefficient": "1",
-    "shock_angle_deg": "degree", "shock_radius": "m",
+    "shock_angle_deg": "degree", "shock_radius": "m", "first_crest_height": "m", "first_crest_time": "s",
 }
+
+
+def measured_unit(name: str) -> str | None:
+    """The unit of the measured quantity ``name``: from :data:`MEASURED_UNITS`,
+    by its name or, for per-probe quantities (``first_crest_height_x4.57``),
+    by the name they extend."""
+    if name in MEASURED_UNITS:
+        return MEASURED_UNITS[name]
+    stems = [key for key in MEASURED_UNITS if name.startswith(key + "_")]
+    return MEASURED_UNITS[max(stems, key=len)] if stems else None
 
 _COORD_ATOL = 1e-12  # two grids are the same when their coordinates agree to this (× max(1, |c|))
 
@@ -119,19 +129,26 @@ def _crossings(x: np.ndarray, v: np.ndarray, level: float) -> np.ndarray:
     return np.sort(np.concatenate((xc, x[on])))
 
 
-def _parabolic_peak(x: np.ndarray, g: np.ndarray) -> float:
-    """Vertex of the parabola through the maximum of g and its two neighbours."""
-    i = int(np.argmax(g))
+def _vertex(x: np.ndarray, g: np.ndarray, i: int) -> tuple[float, float]:
+    """``(x, g)`` at the vertex of the parabola through samples i − 1, i and
+    i + 1 (a local maximum), kept within [x_{i−1}, x_{i+1}]; the sample itself
+    at an end of the record or on a flat top."""
     if i == 0 or i == g.size - 1:
-        return float(x[i])
+        return float(x[i]), float(g[i])
     x0, x1, x2 = x[i - 1], x[i], x[i + 1]
     g0, g1, g2 = g[i - 1], g[i], g[i + 1]
     den = (x0 - x1) * (x0 - x2) * (x1 - x2)
     a = (x2 * (g1 - g0) + x1 * (g0 - g2) + x0 * (g2 - g1)) / den
     b = (x2 * x2 * (g0 - g1) + x1 * x1 * (g2 - g0) + x0 * x0 * (g1 - g2)) / den
     if not a < 0.0:  # flat top: no interior vertex
-        return float(x1)
-    return float(np.clip(-b / (2.0 * a), x0, x2))
+        return float(x1), float(g1)
+    xv = float(np.clip(-b / (2.0 * a), x0, x2))
+    return xv, float(g1 + (xv - x1) * (b + a * (xv + x1)))
+
+
+def _parabolic_peak(x: np.ndarray, g: np.ndarray) -> float:
+    """Vertex of the parabola through the maximum of g and its two neighbours."""
+    return _vertex(x, g, int(np.argmax(g)))[0]
 
 
 # ---------------------------------------------------------------------------
@@ -661,6 +678,21 @@ def peak(
     c1, c0 = np.polyfit(ts - ta, y, 1)
     fitted = baseline + math.exp(c0) if fit == "exponential" else c0
     return dict(raw=float(v.max()), fitted=float(fitted), arrival=ta, window=(float(lo), float(hi)), n_fit=int(ts.size))
+
+
+def first_crest(series: xr.DataArray, threshold_fraction: float = 0.1) -> dict:
+    """The first crest of a wave record η(t): the first local maximum above
+    ``threshold_fraction`` of the record's largest |η| (so the ripples of a
+    quiet start do not count), refined by the parabola through it and its
+    two neighbours. Returns ``{"height", "time"}``; NaN for both if the
+    record never rises above the threshold."""
+    t, v = _series("series", series)
+    level = _fraction("threshold_fraction", threshold_fraction) * float(np.max(np.abs(v)))
+    rising = np.flatnonzero((v[1:-1] >= v[:-2]) & (v[1:-1] > v[2:]) & (v[1:-1] > level)) + 1
+    if rising.size == 0 or level == 0.0:
+        return {"height": float("nan"), "time": float("nan")}
+    time, height = _vertex(t, v, int(rising[0]))
+    return {"height": height, "time": time}
 
 
 def plateau(series: xr.DataArray, t0: float, t1: float) -> float:

@@ -17,7 +17,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: 
 import xarray as xr  # noqa: E402
 
 from compare.convergence import observed_order  # noqa: E402
-from compare.metrics import MEASURED_UNITS, schlieren  # noqa: E402
+from compare.metrics import measured_unit, schlieren  # noqa: E402
 from compare.report import pareto_front  # noqa: E402
 
 
@@ -137,9 +137,9 @@ def richardson(df, convergence, path, title: str) -> Path:
                 label = (f"{row['method']}: order {row['p']:.2f}, Richardson {row['f_ext']:.5g},\n"
                          f"GCI {100 * row['gci_fine']:.2g} %")
             ax.plot(runs["dx"], runs[quantity], "o-", color=colour, ms=4, label=label)
-        unit = MEASURED_UNITS.get(quantity)
+        unit = measured_unit(quantity)
         _plain_log_axis(ax.xaxis, ax.set_xscale)
-        ax.set_xticks(sorted(set(df["dx"])))  # every level labelled (a ladder may span less than a decade)
+        ax.set_xticks(sorted(set(df["dx"].dropna())))  # every level labelled (a ladder may span less than a decade)
         ax.set_xlabel("cell size or particle spacing dx [m]", fontsize=8)
         ax.set_ylabel(f"{quantity} [{unit}]" if unit else quantity, fontsize=8)
         ax.tick_params(labelsize=7)

@@ -59,7 +59,10 @@ def measured(ds: xr.Dataset) -> dict:
 
 def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: list[str] | None = None) -> pd.DataFrame:
     """One row per run: cost, field errors against ``reference`` at the last
-    output time both hold, and the scene's measured quantities."""
+    output time both hold, and the scene's measured quantities; last, a row
+    ``reference`` with the quantities measured on the reference, if it
+    carries any (:func:`cases.reporting.exact_reference` measures the exact
+    solution where the scene can)."""
     names = names or [f"run{i}" for i in range(len(runs))]
     check_same_scene(runs, names)
     rows = []
@@ -79,6 +82,10 @@ def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: li
                 row["error_time"] = float(t)
         row.update(measured(ds))
         rows.append(row)
+    if reference is not None and measured(reference):
+        # the reference's own measured values (the exact ones, where the scene could measure its exact solution)
+        rows.append({"run": "reference", "method": reference.attrs.get("method", "reference"),
+                     **measured(reference)})
     return pd.DataFrame(rows)
 
 

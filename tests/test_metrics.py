@@ -13,6 +13,8 @@ from compare.metrics import (
     conservation_drift,
     errors,
     field_error,
+    first_crest,
+    measured_unit,
     oblique_shock_angle,
     peak,
     plateau,
@@ -383,3 +385,22 @@ def test_schlieren_of_a_linear_ramp_and_a_kink_by_hand():
     assert np.isnan(schlieren(field, k=2.0).values[2, 3])
     with pytest.raises(ValueError, match="2D field on"):
         schlieren(field.isel(y=0))
+
+
+def test_first_crest_is_the_first_maximum_above_the_threshold_refined_by_a_parabola():
+    t = np.arange(0.0, 10.0, 0.05)
+    # quiet ripples (1 % of the largest wave), a crest of 0.5 at t = 3.02 (between samples), a larger one at 6
+    eta = 0.01 * np.sin(20 * t) * (t < 2) + 0.5 * np.exp(-((t - 3.02) / 0.4) ** 2) + np.exp(-((t - 6) / 0.4) ** 2)
+    series = xr.DataArray(eta, coords={"t_probe": t}, dims="t_probe")
+    crest = first_crest(series)
+    # the parabola through three samples 0.05 s apart of a Gaussian of width 0.4 s: within 1e-3 s and 1e-3
+    assert crest["time"] == pytest.approx(3.02, abs=1e-3)
+    assert crest["height"] == pytest.approx(0.5, abs=1e-3)
+    # a depression: the first crest is the one after the trough
+    trough = xr.DataArray(-np.exp(-((t - 3) / 0.4) ** 2) + 0.3 * np.exp(-((t - 5) / 0.4) ** 2),
+                          coords={"t_probe": t}, dims="t_probe")
+    assert first_crest(trough)["time"] == pytest.approx(5.0, abs=1e-3)
+    # no crest above a tenth of the largest |eta| (a record that only falls): NaN
+    assert np.isnan(first_crest(xr.DataArray(-t, coords={"t_probe": t}, dims="t_probe"))["height"])
+    assert measured_unit("first_crest_time_x4.57") == "s"
+    assert measured_unit("wall_arrival_time") == "s" and measured_unit("nonsense") is None

@@ -250,11 +250,11 @@ def test_memory_resort_changes_nothing_but_round_off(monkeypatch):
 
 def test_reused_neighbour_lists_change_nothing_but_round_off(monkeypatch):
     # lists reused while the Verlet skin holds, or a new search every evaluation: the same run
-    sph_solve = importlib.import_module("particle.sph.solve")
+    sph_lists = importlib.import_module("particle.sph.lists")
     # Noh's implosion: particles stream along the symmetry walls, so the mirror ghosts move too
     scene = cases.get("noh", t_end=0.1, n_out=50)
     runs = [cases.run(scene, "sph", dx=0.02, progress=False)]
-    monkeypatch.setattr(sph_solve.GasSPH, "_reusable_lists", lambda self, *args: None)
+    monkeypatch.setattr(sph_lists.VerletLists, "reusable", lambda self, *args: None)
     runs.append(cases.run(scene, "sph", dx=0.02, progress=False))
     reused, fresh = runs
     assert reused.attrs["n_steps"] == fresh.attrs["n_steps"] > 20

@@ -170,3 +170,15 @@ def test_small_prins_mound_gauge_record_matches_the_long_wave_limit():
 def test_wave_scenes_refuse_a_flume_short_enough_for_reflections_to_reach_the_gauges():
     with pytest.raises(InputError, match=r"^length = 12 m lets a wave reflected at the far end reach the gauges"):
         cases.get("prins_mound", length=12.0)
+
+
+def test_a_dam_across_a_square_basin_breaks_as_in_one_dimension():
+    # dim=2: the dam spans the basin between walls at y = 0 and 10 m, so the flow stays 1D (the bench problem)
+    flat, square = cases.get("dam_break", nx_out=100), cases.get("dam_break", nx_out=100, dim=2)
+    a, b = (cases.run(scene, "swe", progress=False) for scene in (flat, square))
+    h = b.h.isel(time=-1).values
+    assert np.abs(h - h[:1]).max() < 1e-12  # every row alike, and no velocity across
+    assert float(np.abs(b.v).max()) < 1e-12
+    error_2d = field_error(b.h.isel(time=-1), square.exact(b.time.values).h.isel(time=-1))
+    error_1d = field_error(a.h.isel(time=-1), flat.exact(a.time.values).h.isel(time=-1))
+    assert error_2d == pytest.approx(error_1d, rel=0.05)

@@ -42,6 +42,8 @@ from compare.exact.water import (
     group_velocity,
     linear_wave_fields,
     linear_waves,
+    standing_wave,
+    standing_wave_fields,
 )
 
 __all__ = [
@@ -75,6 +77,8 @@ __all__ = [
     "sedov_alpha",
     "sedov_profile",
     "shock_radius",
+    "standing_wave",
+    "standing_wave_fields",
     "star_state",
     "theta_beta_mach",
 ]

@@ -140,7 +140,7 @@ from compare.schema import result
 __all__ = [
     "CRATER_GAUGES", "GEOMETRIES", "GRAVITY", "PRINS_GAUGES", "Crater", "DamBreakState", "Edge", "Gaussian",
     "InitialShape", "Mound", "dam_break", "dam_break_profile", "dam_break_state", "dispersion", "group_velocity",
-    "linear_wave_fields", "linear_waves",
+    "linear_wave_fields", "linear_waves", "standing_wave", "standing_wave_fields",
 ]
 
 #: gravitational acceleration [m s-2]
@@ -665,6 +665,33 @@ def linear_waves(shape: InitialShape, x, times, d, geometry: str = "planar", g: 
         parameters={**shape.parameters(), "d": d, "g": g, "geometry": geometry, "dispersive": bool(dispersive),
                     **{key: value for key, value in quadrature.items() if value is not None}},
         long_names=long_names,
+    )
+
+
+def standing_wave_fields(x, times, amplitude, k, d, g: float = GRAVITY, dispersive: bool = True):
+    """``(eta, u)`` (time, x) of the linear standing wave η = a cos(kx) cos(ωt)
+    from rest (Lamb 1932 §228), ω from :func:`dispersion`; u is the
+    depth-averaged velocity continuity gives, ∂η/∂t + d ∂u/∂x = 0:
+    u = (a ω/(k d)) sin(kx) sin(ωt)."""
+    x, t = np.asarray(x, float), np.asarray(times, float)[:, None]
+    omega = float(dispersion(k, d, g, dispersive))
+    eta = amplitude * np.cos(k * x) * np.cos(omega * t)
+    u = amplitude * omega / (k * d) * np.sin(k * x) * np.sin(omega * t)
+    return eta, u
+
+
+def standing_wave(x, times, amplitude, k, d, g: float = GRAVITY, dispersive: bool = True,
+                  case: str = "standing_wave") -> xr.Dataset:
+    """:func:`standing_wave_fields` as a partmesh result Dataset (``eta``, ``u``, ``h = d + eta``)."""
+    x, times = axis("x", x), output_times(times)
+    eta, u = standing_wave_fields(x, times, amplitude, k, d, g, dispersive)
+    dispersion_text = "omega^2 = g k tanh(k d)" if dispersive else "omega = k sqrt(g d)"
+    return result(
+        case=case, method="exact", scheme=f"linear standing wave, {dispersion_text} (Lamb 1932 §228)",
+        x=x, times=times, dx=float(np.mean(np.diff(x))), fields={"eta": eta, "u": u, "h": d + eta},
+        parameters={"amplitude": float(amplitude), "k": float(k), "d": float(d), "g": float(g),
+                    "dispersive": bool(dispersive)},
+        long_names={"u": "depth-averaged x velocity (linear theory)"},
     )
 
 

@@ -17,62 +17,83 @@ from compare.regrid import to_output_grid
 from gridref.euler.reconstruct import LIMITERS
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from gridref.march import march
-from gridref.swe.step import DRY, Scheme, radii, ssp_rk2, stable_dt, velocities
+from gridref.swe.step import (
+    DRY,
+    Scheme,
+    direction_rates,
+    ghosted,
+    heun_first,
+    heun_second,
+    radii,
+    stable_dt,
+    summed,
+    velocities,
+)
 
 SETTINGS = ("dx", "cfl", "limiter", "t_end", "checkpoint", "checkpoint_every", "resume")
 
 
 class Stepper:
-    """The jitted SSP-RK2 steps of one run.
+    """The SSP-RK2 steps of one run as a pipeline of jitted kernels: ghost
+    cells, the terms of each direction, and each stage's update (see
+    :mod:`gridref.swe.step`: materialised between kernels, the stages run
+    three times faster than as one program).
 
     ``stepper(U, t, target, t_out, dt_cfl) -> (U, t, dt_cfl, eta at the
     gauges, steps, dt_tried)`` steps at the CFL time step until ``target``
     is reached or passed (the last step is cut to end at ``t_out``, never
-    past it) in one compiled loop (``lax.while_loop``: no return to Python
-    between steps);
-    a step that would make the state non-physical is not taken, the loop
-    stops and ``dt_cfl`` is NaN (``step(U, dt_tried)`` then gives the bad
-    state; compiled only when a step fails). ``initial_dt(U)`` is the first
-    CFL step.
+    past it); a step that would make the state non-physical is not taken,
+    the stepping stops and ``dt_cfl`` is NaN (``step(U, dt_tried)`` then
+    gives the bad state). ``initial_dt(U)`` is the first CFL step.
     """
 
     def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
-        def step(U, dt):
-            return ssp_rk2(U, z, dt, scheme, radius)
+        self._ghosts = jax.jit(lambda U: ghosted(U, z, scheme))
+        self._terms = [jax.jit(lambda Wg, d=d: direction_rates(Wg, d, scheme, radius)) for d in range(scheme.dim)]
 
-        def steps_to(U, t, target, t_out, dt_cfl):
-            def going(c):
-                return c[4] & (c[1] < target * (1 - 1e-14))
+        def gauges(U):
+            return jnp.sum((U[0] + z).ravel()[gauge_index] * gauge_weight, axis=-1)
 
-            def one(c):
-                U, t, dt_cfl, n, _, _ = c
-                dt = jnp.minimum(dt_cfl, t_out - t)
-                U_new = step(U, dt)
-                dt_new = stable_dt(U_new, scheme)
-                good = jnp.isfinite(dt_new)
-                t_new = jnp.where(t + dt >= t_out * (1 - 1e-14), t_out, t + dt)
-                U = tuple(jnp.where(good, a, b) for a, b in zip(U_new, U))
-                return U, jnp.where(good, t_new, t), dt_new, n + good.astype(n.dtype), good, dt
+        def second(U, U1, parts, dt):
+            U_new = heun_second(U, U1, summed(parts), dt)
+            return U_new, stable_dt(U_new, scheme), gauges(U_new)
 
-            start = (U, jnp.asarray(t, float), jnp.asarray(dt_cfl, float), jnp.asarray(0), jnp.asarray(True),
-                     jnp.asarray(0.0))
-            U, t, dt_cfl, n, _, dt_tried = jax.lax.while_loop(going, one, start)
-            eta = (U[0] + z).ravel()[gauge_index]
-            return U, t, dt_cfl, jnp.sum(eta * gauge_weight, axis=-1), n, dt_tried
-
-        self.step = jax.jit(step)
-        self._steps_to = jax.jit(steps_to)
+        self._first = jax.jit(lambda U, parts, dt: heun_first(U, summed(parts), dt))
+        self._second = jax.jit(second)
+        self._gauges = jax.jit(gauges)
         self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme))
 
+    def _stage_terms(self, U):
+        Wg = self._ghosts(U)
+        return [terms(Wg) for terms in self._terms]
+
+    def _step(self, U, dt):
+        """``(U after dt, its CFL step, eta at the gauges)``: the two stages
+        of Heun's method (:func:`gridref.swe.step.ssp_rk2`)."""
+        U1 = self._first(U, self._stage_terms(U), dt)
+        return self._second(U, U1, self._stage_terms(U1), dt)
+
+    def step(self, U, dt):
+        """The state after one step of ``dt`` (whether physical or not)."""
+        return self._step(U, dt)[0]
+
     def __call__(self, U, t, target, t_out, dt_cfl):
-        U, t, dt_cfl, gauges, n, dt_tried = self._steps_to(U, t, target, t_out, dt_cfl)
-        return U, float(t), float(dt_cfl), gauges, int(n), float(dt_tried)
+        steps, gauges, dt = 0, None, 0.0
+        while t < target * (1 - 1e-14):
+            dt = min(dt_cfl, t_out - t)
+            U_new, dt_new, eta = self._step(U, dt)
+            dt_new = float(dt_new)
+            if not np.isfinite(dt_new):
+                dt_cfl = float("nan")
+                break
+            U, dt_cfl, gauges, steps = U_new, dt_new, eta, steps + 1
+            t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
+        return U, t, dt_cfl, self._gauges(U) if gauges is None else gauges, steps, dt
 
     def compile(self, U) -> float:
-        """Compile the steps for these shapes; return the seconds spent."""
+        """Compile the kernels for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
-        dt = float(self.initial_dt(U))
-        jax.block_until_ready(self._steps_to(U, 0.0, dt, dt, dt))
+        jax.block_until_ready(self._step(U, self.initial_dt(U)))
         return _time.perf_counter() - t0
 
 

@@ -20,30 +20,38 @@ from particle.neighbours import counting_sort
 
 
 @numba.njit(parallel=True, cache=True)
-def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
-    """``values`` interpolated at ``points`` (n_points, dim), summing over
-    ``n_chunks`` blocks of particles in parallel; NaN where no particle's
-    support reaches a point."""
-    n_points, n = points.shape[0], x.shape[0]
-    num = np.zeros((n_chunks, n_points))
+def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
+    """``(Σ_j f_j V_j W_pj, Σ_j V_j W_pj)`` at ``points`` (n_points, dim) for
+    the ``values`` f (k, n): (k, n_points) and (n_points,), summing over
+    ``n_chunks`` blocks of particles in parallel."""
+    n_points, n, k = points.shape[0], x.shape[0], values.shape[0]
+    num = np.zeros((n_chunks, k, n_points))
     den = np.zeros((n_chunks, n_points))
     chunk = (n + n_chunks - 1) // n_chunks
     for c in numba.prange(n_chunks):
         for j in range(c * chunk, min(n, (c + 1) * chunk)):
-            for k in range(n_points):
+            for p in range(n_points):
                 r2 = 0.0
                 for d in range(dim):
-                    diff = points[k, d] - x[j, d]
+                    diff = points[p, d] - x[j, d]
                     r2 += diff * diff
                 r = math.sqrt(r2)
                 if r < H[j]:
                     w = volumes[j] * kernel_w(kind, r, H[j], dim)
-                    num[c, k] += values[j] * w
-                    den[c, k] += w
-    out = np.empty(n_points)
-    for k in range(n_points):
-        total = den[:, k].sum()
-        out[k] = num[:, k].sum() / total if total > 0.0 else np.nan
+                    den[c, p] += w
+                    for f in range(k):
+                        num[c, f, p] += values[f, j] * w
+    return num.sum(axis=0), den.sum(axis=0)
+
+
+@numba.njit(cache=True)
+def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
+    """``values`` (n,) interpolated at ``points`` (n_points, dim); NaN where
+    no particle's support reaches a point."""
+    num, den = kernel_sums_at_points(points, x, values.reshape(1, -1), volumes, H, kind, dim, n_chunks)
+    out = np.empty(den.size)
+    for p in range(den.size):
+        out[p] = num[0, p] / den[p] if den[p] > 0.0 else np.nan
     return out
 
 
@@ -65,12 +73,10 @@ def _rows_of(y, y0, dy, ny, periodic, length):
 
 
 @numba.njit(parallel=True, cache=True)
-def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim,
-                    min_support):
-    """``values`` (k, n) interpolated at the centres ``(x0 + i dx, y0 + r dy)``
-    of a uniform ``ny × nx`` grid: (k, ny, nx), NaN where the kernel sum
-    Σ_j V_j W is zero or below ``min_support``. 1D: ``y`` zeros, ``ny = 1``.
-    On a periodic axis the box is the grid's extent (n·spacing) and every
+def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim):
+    """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy)``
+    of a uniform ``ny × nx`` grid for the ``values`` f (k, n): (k, ny, nx)
+    and (ny, nx). 1D: ``y`` zeros, ``ny = 1``. On a periodic axis the box is the grid's extent (n·spacing) and every
     support must be below half of it. Each grid row sums the particles of
     the rows its supports can reach, row by row, so threads never share a
     cell and the sums do not depend on the thread count."""
@@ -115,6 +121,18 @@ def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x
                         den[r, c] += w
                         for f in range(k):
                             num[f, r, c] += w * values[f, j]
+    return num, den
+
+
+@numba.njit(parallel=True, cache=True)
+def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim,
+                    min_support):
+    """``values`` (k, n) interpolated at the grid centres of
+    :func:`kernel_sums_on_grid`: (k, ny, nx), NaN where the kernel sum
+    Σ_j V_j W is zero or below ``min_support``."""
+    k = values.shape[0]
+    num, den = kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y,
+                                   kind, dim)
     out = np.empty((k, ny, nx))
     for r in numba.prange(ny):
         for i in range(nx):

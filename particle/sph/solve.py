@@ -27,17 +27,16 @@ from cases.checks import check_obstacles, choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
-from compare.io import write_particles
+from compare.io import particle_snapshot, write_particles
 from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods, renumbered, sort_order
+from particle.neighbours import neighbour_lists, padded, periods, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
+from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import (
     check_supported,
     extended_domain,
-    mirror_ghosts,
-    mirror_images,
     outflow_reach,
     place_1d,
     place_2d,
@@ -64,7 +63,7 @@ MIN_SUPPORT = 1e-3
 
 
 @dataclass
-class Particles:
+class Particles(PerParticle):
     """The fluid particles of a run (ghosts are rebuilt every evaluation);
     ``rho`` is the density of the last evaluation, which the walls'
     virtual particles are extrapolated from."""
@@ -78,25 +77,19 @@ class Particles:
     alpha_u: np.ndarray
     rho: np.ndarray
 
-    FIELDS = ("x", "v", "u", "m", "H", "alpha", "alpha_u", "rho")
-
-    def take(self, order) -> "Particles":
-        """The particles in the order ``order`` (a permutation)."""
-        return Particles(*(getattr(self, name)[order] for name in self.FIELDS))
-
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
-        for name in self.FIELDS:
-            setattr(self, name, getattr(self, name)[mask])
+        for f in dataclasses.fields(self):
+            setattr(self, f.name, getattr(self, f.name)[mask])
 
     def append(self, other: "Particles"):
         """Add the particles of ``other`` after these."""
-        for name in self.FIELDS:
-            setattr(self, name, np.concatenate([getattr(self, name), getattr(other, name)]))
+        for f in dataclasses.fields(self):
+            setattr(self, f.name, np.concatenate([getattr(self, f.name), getattr(other, f.name)]))
 
 
 @dataclass
-class Evaluation:
+class Evaluation(PerParticle):
     """Everything computed from one particle state (fluid particles only)."""
 
     rho: np.ndarray
@@ -108,57 +101,36 @@ class Evaluation:
     vsig: np.ndarray
     lap_u: np.ndarray
 
-    def take(self, order) -> "Evaluation":
-        """The evaluation with its particles in the order ``order``."""
-        return Evaluation(*(getattr(self, f.name)[order] for f in dataclasses.fields(self)))
-
-
-@dataclass
-class NeighbourLists:
-    """CSR neighbour lists of the ``n`` fluid particles, the imposed ones
-    after them and their mirror ghosts (``src``: each ghost's source,
-    ``sides``: the mask of the sides it is mirrored across), with the
-    positions ``x`` and velocities ``v`` of all of them and the radius each
-    particle's list is complete for."""
-
-    n: int
-    x: np.ndarray
-    v: np.ndarray
-    src: np.ndarray
-    sides: np.ndarray
-    radius: np.ndarray
-    offsets: np.ndarray
-    index: np.ndarray
-
-    def take(self, order) -> "NeighbourLists":
-        """The same lists with the fluid particles in the order ``order``
-        (the imposed particles and the ghosts keep their places)."""
-        full = np.concatenate([order, np.arange(self.n, self.x.shape[0])])
-        new_id = np.empty_like(full)
-        new_id[full] = np.arange(full.size)
-        offsets, index = renumbered(self.offsets, self.index, full)
-        return NeighbourLists(self.n, self.x[full], self.v[full], new_id[self.src], self.sides, self.radius[full],
-                              offsets, index)
-
 
 class GasSPH:
     """The SPH equations of one run, bound to its scene and settings."""
 
     def __init__(self, scene, kernel: str, eta: float, region, open_=(), wall=None):
         self.scene, self.kernel, self.eta = scene, kernel, eta
-        self.region, self.open, self.wall = region, open_, wall
-        #: wall seconds spent in each pass, and the interactions the force pass
+        self.region, self.wall = region, wall
+        #: wall seconds spent in the density and force passes, and the interactions the force pass
         #: summed (ordered pairs i fluid, r_ij < max(H_i, H_j)), over the run
-        self.seconds = dict.fromkeys(("search", "density", "forces"), 0.0)
+        self.seconds = dict.fromkeys(("density", "forces"), 0.0)
         self.force_interactions = 0
-        #: neighbour searches made, and the lists of the last one (reused while they hold every pair)
-        self.searches, self.lists = 0, None
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
         self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
         self.box, self.half = periods(self.lo, self.hi, self.periodic, self.dim)
+        #: the neighbour lists, reused while they hold every pair
+        self.verlet = VerletLists(scene, self.lo, self.hi, self.periodic, open_)
+
+    @property
+    def counters(self) -> tuple:
+        """``(seconds per pass, searches, force interactions)`` of the run so far."""
+        return {"search": self.verlet.seconds, **self.seconds}, self.verlet.searches, self.force_interactions
+
+    @counters.setter
+    def counters(self, value):
+        seconds, self.verlet.searches, self.force_interactions = value
+        self.verlet.seconds = seconds["search"]
+        self.seconds = {k: seconds[k] for k in self.seconds}
 
     def retained(self, x) -> np.ndarray:
         """True for the particles still in the run: within the particle box
@@ -190,11 +162,11 @@ class GasSPH:
         x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
         H_real = np.concatenate([P.H, bH])
         m_real = np.concatenate([P.m, bm])
-        lists = self._reusable_lists(x_real, v_real, H_real, n)
+        lists = self.verlet.reusable(x_real, v_real, H_real, n)
         slack = SEARCH_SLACK
         for _ in range(5):
             if lists is None:
-                lists = self._search(x_real, v_real, H_real, n, slack)
+                lists = self.verlet.search(x_real, v_real, H_real, n, slack)
                 slack *= 1.4  # for the next search, if a solution reaches the edge of these lists
             src, offsets, index = lists.src, lists.offsets, lists.index
             m = np.concatenate([m_real, m_real[src]])
@@ -227,55 +199,11 @@ class GasSPH:
         self.force_interactions += int(interactions)
         return E
 
-    def renumber(self, order):
-        """Follow the fluid particles into the order ``order`` (the kept
-        neighbour lists with them: a re-sort costs no search)."""
-        if self.lists is not None and self.lists.n == order.size:
-            self.lists = self.lists.take(order)
-
-    def _search(self, x_real, v_real, H_real, n, slack) -> "NeighbourLists":
-        """Mirror ghosts and neighbour lists of the real particles (fluid then
-        imposed) and their ghosts, complete for ``slack`` times the supports
-        ``H_real``; kept for reuse."""
-        t0 = _time.perf_counter()
-        gx, gv, src, sides = mirror_ghosts(self.scene, x_real, v_real, slack * H_real.max(), self.open)
-        x = np.concatenate([x_real, gx])
-        radius = slack * np.concatenate([H_real, H_real[src]])
-        offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic)
-        self.lists = NeighbourLists(n, x, np.concatenate([v_real, gv]), src, sides, radius, offsets, index)
-        self.searches += 1
-        self.seconds["search"] += _time.perf_counter() - t0
-        return self.lists
-
-    def _reusable_lists(self, x_real, v_real, H_real, n) -> "NeighbourLists | None":
-        """The last lists at the moved positions, if they still hold every
-        pair that can interact (Verlet 1967): a pair apart by r now was apart
-        by at most r + 2δ when they were built (δ: the largest displacement
-        of any particle since), so particle i's list is still complete for
-        the radius R_i − 2δ (R_i: the radius it was built for). Usable when
-        the particle count is the same and every support is below that
-        radius (the density solve then keeps each H below it too). Positions
-        are compared index by index, so a re-sort or a jump of the inflow
-        buffer shows as a large displacement and forces a new search."""
-        lists = self.lists
-        if lists is None or lists.n != n or lists.x.shape[0] != x_real.shape[0] + lists.src.size:
-            return None
-        t0 = _time.perf_counter()
-        gx, gv = mirror_images(self.scene, x_real, v_real, lists.src, lists.sides, self.open)
-        x = np.concatenate([x_real, gx])
-        moved = x - lists.x
-        for a in np.flatnonzero(self.periodic):
-            moved[:, a] -= self.box[a] * np.round(moved[:, a] / self.box[a])
-        radius = lists.radius - 2.0 * np.sqrt(np.max(np.einsum("ij,ij->i", moved, moved)))
-        usable = np.all(np.concatenate([H_real, H_real[lists.src]]) < radius)
-        self.seconds["search"] += _time.perf_counter() - t0
-        return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None
-
     def compile_rest(self, P: Particles, E: Evaluation) -> None:
         """Compile (or load) the kernels a run meets after its first
         evaluation, so that its time excludes them: the lists' renumbering,
         a frame's deposition, a search among a few much wider particles."""
-        self.renumber(np.arange(P.x.shape[0]))
+        self.verlet.renumber(np.arange(P.x.shape[0]))
         axes = tuple(np.linspace(lo, hi, 3) for lo, hi in zip(self.lo, self.hi))
         self.interpolate(P, E, P.u[None, :], axes)
         x = self.lo + (self.hi - self.lo) * np.linspace(0.05, 0.95, 40)[:, None]
@@ -347,7 +275,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
     compile_seconds = _time.perf_counter() - t0
     # the pass timings and counts exclude compilation
-    sph.seconds, sph.force_interactions, sph.searches = dict.fromkeys(sph.seconds, 0.0), 0, 0
+    sph.counters = {"search": 0.0, "density": 0.0, "forces": 0.0}, 0, 0
     P.H, P.rho = E.H, E.rho
     _observe_inlet(inflow, P, E, 0.0, eta)
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
@@ -359,8 +287,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     if saved is not None:
         P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
         run.reflections, run.totals0 = saved["reflections"], saved["totals0"]
-        sph.seconds, sph.searches, sph.force_interactions = saved["counters"]
-        sph.lists = None
+        sph.counters = saved["counters"]
+        sph.verlet.forget()
         if inflow:
             inflow.inflowed, inflow.adjacent = saved["inflow"]
     bar = run.progress_bar(t, t_end, progress)
@@ -372,7 +300,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         # neighbours next to each other in memory: particles sorted cell by cell
                         order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
                         P, E = P.take(order), E.take(order)
-                        sph.renumber(order)
+                        sph.verlet.renumber(order)
                     speed = E.vsig + np.linalg.norm(P.v, axis=1)
                     dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
                     # the step works on a copy: a failed step leaves P and E, the last consistent state
@@ -427,7 +355,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         t_sampled = t
                     ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
                                                     "reflections": run.reflections, "totals0": run.totals0,
-                                                    "counters": (sph.seconds, sph.searches, sph.force_interactions),
+                                                    "counters": sph.counters,
                                                     "inflow": (inflow.inflowed, inflow.adjacent) if inflow else None},
                                    lambda: run.fields(P, E))
                 run.add_frame(run.fields(P, E), t)
@@ -442,7 +370,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
 def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
     """The particles at time ``t`` (SPEC §2): fluid, the walls' virtual
     particles and the inflow buffer, with their kind."""
-    gamma, dim = sph.scene.gamma, sph.dim
+    gamma = sph.scene.gamma
     groups = [(P.x, P.v, P.rho, P.u, P.H, P.m, KINDS["fluid"])]
     if sph.wall is not None:
         groups.append((*virtual_state(sph.wall, P.x, P.v, P.rho, (gamma - 1.0) * P.rho * P.u, P.m, P.H, sph.kind,
@@ -452,18 +380,7 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
         groups.append((bx, bv, brho, bu, bH, np.full(bx.shape[0], P.m[0]), KINDS["buffer"]))
     x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
     kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
-    variables = {"x": (x[:, 0], "m", "position x"), "u": (v[:, 0], "m s-1", "velocity x"),
-                 "rho": (rho, "kg m-3", "density"), "p": ((gamma - 1.0) * rho * u, "Pa", "pressure"),
-                 "m": (m, "kg m-(3-d)", "mass (per unit length/area of the missing dimensions)"),
-                 "h": (0.5 * H, "m", "smoothing length h = H/2 (H: kernel support radius)")}
-    if dim == 2:
-        variables.update(y=(x[:, 1], "m", "position y"), v=(v[:, 1], "m s-1", "velocity y"))
-    ds = xr.Dataset({name: ("particle", a, {"units": units, "long_name": long})
-                     for name, (a, units, long) in variables.items()})
-    ds["kind"] = ("particle", kind, {"long_name": "particle kind", "flag_values": list(KINDS.values()),
-                                     "flag_meanings": " ".join(KINDS)})
-    ds.attrs.update(case=sph.scene.name, method="sph", time=t, Conventions="CF-1.10")
-    return ds
+    return particle_snapshot(x, v, rho, (gamma - 1.0) * rho * u, m, H, kind, KINDS, sph.scene.name, "sph", t)
 
 
 def _totals(P: Particles) -> tuple[float, float]:
@@ -576,8 +493,8 @@ class _Run(RunRecord):
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
-                 "neighbour_searches": self.sph.searches,
-                 **{f"seconds_{name}": seconds for name, seconds in self.sph.seconds.items()}}
+                 "neighbour_searches": self.sph.counters[1],
+                 **{f"seconds_{name}": seconds for name, seconds in self.sph.counters[0].items()}}
         closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
         if closed and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0, self.totals

@@ -1,0 +1,122 @@
+"""Neighbour lists of a particle set with its mirror ghosts, kept and reused
+while they still hold every pair that can interact (a Verlet list with a
+skin: Verlet 1967; Monaghan 2005 §7). Shared by the gas SPH (``sph``) and
+the water SPH (``wcsph``)."""
+
+from __future__ import annotations
+
+import dataclasses
+import time as _time
+from dataclasses import dataclass
+
+import numpy as np
+
+from particle.neighbours import neighbour_lists, periods, renumbered
+from particle.sph.particles import mirror_ghosts, mirror_images
+
+
+class PerParticle:
+    """Mixin of dataclasses whose every field holds one entry per particle:
+    :meth:`take` reorders (or picks) them all at once."""
+
+    def take(self, order):
+        """The same record with its particles in the order ``order`` (indices)."""
+        return type(self)(*(getattr(self, f.name)[order] for f in dataclasses.fields(self)))
+
+
+@dataclass
+class NeighbourLists:
+    """CSR neighbour lists of the ``n`` fluid particles, the imposed ones
+    after them and their mirror ghosts (``src``: each ghost's source,
+    ``sides``: the mask of the sides it is mirrored across), with the
+    positions ``x`` and velocities ``v`` of all of them and the radius each
+    particle's list is complete for."""
+
+    n: int
+    x: np.ndarray
+    v: np.ndarray
+    src: np.ndarray
+    sides: np.ndarray
+    radius: np.ndarray
+    offsets: np.ndarray
+    index: np.ndarray
+
+    def take(self, order) -> "NeighbourLists":
+        """The same lists with the fluid particles in the order ``order``
+        (the imposed particles and the ghosts keep their places)."""
+        full = np.concatenate([order, np.arange(self.n, self.x.shape[0])])
+        new_id = np.empty_like(full)
+        new_id[full] = np.arange(full.size)
+        offsets, index = renumbered(self.offsets, self.index, full)
+        return NeighbourLists(self.n, self.x[full], self.v[full], new_id[self.src], self.sides, self.radius[full],
+                              offsets, index)
+
+
+class VerletLists:
+    """The neighbour lists of one run. ``walls`` names the sides ghosts are
+    mirrored across (an object with ``sides``, ``boundaries`` and
+    ``domain``, as a scene: :func:`particle.sph.particles.mirror_ghosts`),
+    ``open_`` the outflow sides mirrored with the velocity kept; ``lo``,
+    ``hi`` and ``periodic`` the search box. ``searches`` counts the
+    searches made and ``seconds`` the wall time spent on lists."""
+
+    def __init__(self, walls, lo, hi, periodic, open_=()):
+        self.walls, self.open = walls, tuple(open_)
+        self.lo, self.hi, self.periodic = np.asarray(lo, float), np.asarray(hi, float), np.asarray(periodic, bool)
+        self.box, self.half = periods(self.lo, self.hi, self.periodic, self.lo.size)
+        self.searches, self.seconds, self.last = 0, 0.0, None
+
+    def lists(self, x_real, v_real, H_real, n, slack) -> NeighbourLists:
+        """Lists of the real particles (``n`` fluid, then imposed ones) and
+        their ghosts complete for the supports ``H_real``: the last ones at
+        the moved positions if :meth:`reusable`, else a new search for
+        ``slack`` times the supports."""
+        return self.reusable(x_real, v_real, H_real, n) or self.search(x_real, v_real, H_real, n, slack)
+
+    def search(self, x_real, v_real, H_real, n, slack) -> NeighbourLists:
+        """Mirror ghosts and neighbour lists of the real particles and their
+        ghosts, complete for ``slack`` times the supports ``H_real``; kept
+        for reuse."""
+        t0 = _time.perf_counter()
+        gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, slack * H_real.max(), self.open)
+        x = np.concatenate([x_real, gx])
+        radius = slack * np.concatenate([H_real, H_real[src]])
+        offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic)
+        self.last = NeighbourLists(n, x, np.concatenate([v_real, gv]), src, sides, radius, offsets, index)
+        self.searches += 1
+        self.seconds += _time.perf_counter() - t0
+        return self.last
+
+    def reusable(self, x_real, v_real, H_real, n) -> NeighbourLists | None:
+        """The last lists at the moved positions, if they still hold every
+        pair that can interact (Verlet 1967): a pair apart by r now was apart
+        by at most r + 2δ when they were built (δ: the largest displacement
+        of any particle since), so particle i's list is still complete for
+        the radius R_i − 2δ (R_i: the radius it was built for). Usable when
+        the particle count is the same and every support is below that
+        radius. Positions are compared index by index, so a re-sort or a
+        jump of an inflow buffer shows as a large displacement and forces
+        a new search."""
+        lists = self.last
+        if lists is None or lists.n != n or lists.x.shape[0] != x_real.shape[0] + lists.src.size:
+            return None
+        t0 = _time.perf_counter()
+        gx, gv = mirror_images(self.walls, x_real, v_real, lists.src, lists.sides, self.open)
+        x = np.concatenate([x_real, gx])
+        moved = x - lists.x
+        for a in np.flatnonzero(self.periodic):
+            moved[:, a] -= self.box[a] * np.round(moved[:, a] / self.box[a])
+        radius = lists.radius - 2.0 * np.sqrt(np.max(np.einsum("ij,ij->i", moved, moved)))
+        usable = np.all(np.concatenate([H_real, H_real[lists.src]]) < radius)
+        self.seconds += _time.perf_counter() - t0
+        return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None
+
+    def renumber(self, order):
+        """Follow the fluid particles into the order ``order`` (the kept
+        lists with them: a re-sort costs no search)."""
+        if self.last is not None and self.last.n == order.size:
+            self.last = self.last.take(order)
+
+    def forget(self):
+        """Drop the kept lists (the next call searches)."""
+        self.last = None
