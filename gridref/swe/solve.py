@@ -20,7 +20,8 @@ from gridref.march import march
 from gridref.swe.step import (
     DRY,
     Scheme,
-    direction_rates,
+    direction_terms,
+    face_fluxes,
     ghosted,
     heun_first,
     heun_second,
@@ -35,9 +36,9 @@ SETTINGS = ("dx", "cfl", "limiter", "t_end", "checkpoint", "checkpoint_every", "
 
 class Stepper:
     """The SSP-RK2 steps of one run as a pipeline of jitted kernels: ghost
-    cells, the terms of each direction, and each stage's update (see
-    :mod:`gridref.swe.step`: materialised between kernels, the stages run
-    three times faster than as one program).
+    cells, the face fluxes and the cell terms of each direction, and each
+    stage's update (see :mod:`gridref.swe.step`: materialised between
+    kernels, a stage runs several times faster than as one program).
 
     ``stepper(U, t, target, t_out, dt_cfl) -> (U, t, dt_cfl, eta at the
     gauges, steps, dt_tried)`` steps at the CFL time step until ``target``
@@ -49,7 +50,9 @@ class Stepper:
 
     def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
         self._ghosts = jax.jit(lambda U: ghosted(U, z, scheme))
-        self._terms = [jax.jit(lambda Wg, d=d: direction_rates(Wg, d, scheme, radius)) for d in range(scheme.dim)]
+        self._fluxes = [jax.jit(lambda Wg, d=d: face_fluxes(Wg, d, scheme)) for d in range(scheme.dim)]
+        self._terms = [jax.jit(lambda Wg, F, d=d: direction_terms(Wg, F, d, scheme, radius))
+                       for d in range(scheme.dim)]
 
         def gauges(U):
             return jnp.sum((U[0] + z).ravel()[gauge_index] * gauge_weight, axis=-1)
@@ -65,7 +68,7 @@ class Stepper:
 
     def _stage_terms(self, U):
         Wg = self._ghosts(U)
-        return [terms(Wg) for terms in self._terms]
+        return [terms(Wg, fluxes(Wg)) for fluxes, terms in zip(self._fluxes, self._terms)]
 
     def _step(self, U, dt):
         """``(U after dt, its CFL step, eta at the gauges)``: the two stages

@@ -28,13 +28,14 @@ are weighted by the face radius, the cell by its centre radius, and the
 hoop term ``g h²/(2r)`` is taken as ``g (h⁻²_{i+½} + h⁺²_{i−½})/(4 r_i)``,
 which balances the pressure fluxes of a lake at rest exactly.
 
-The ghosted state, the terms of each direction and the stage updates are
-separate jitted kernels whose outputs are materialised in between
-(:class:`gridref.swe.solve.Stepper`), and within a direction the face values
-and the fluxes are materialised too (``jax.lax.optimization_barrier``):
-fused into their consumers, XLA:CPU recomputes them for every use (one
-stage on 512² cells: 37 ms as one program, 12 ms as a pipeline: ghosts
-1.1 ms, x terms 5.0, y terms 4.7, update 1.4).
+The ghosted state, each direction's face fluxes and cell terms, and the
+stage updates are separate jitted kernels whose outputs are materialised in
+between (:class:`gridref.swe.solve.Stepper`), and within the flux kernel the
+face values and the fluxes are materialised too
+(``jax.lax.optimization_barrier``): fused into their consumers, XLA:CPU
+recomputes them for every use (a step on 512² cells: 196 ms with each
+direction's fluxes and terms in one kernel, 67 ms apart, of which the flux
+kernels take 8.5 ms per direction and stage).
 
 Velocities are recovered from the momenta with Kurganov & Petrova's (2007)
 desingularisation ``u = 2 h (h u)/(h² + max(h², ε²))`` (ε = ``DRY`` m), so a
@@ -135,23 +136,29 @@ def ghosted(U, z, scheme: Scheme):
     return with_ghosts((U[0], *velocities(U), z), scheme)
 
 
-def direction_rates(Wg, d: int, scheme: Scheme, radius=None):
-    """The part of ``dU/dt`` (one array per component of ``U``) that the faces
-    normal to direction ``d`` give: fluxes, the bed source and, radially, the
-    hoop term, from the ghosted ``Wg`` (:func:`ghosted`); ``radius``: the
-    cell-centre and face radii ``(r_c, r_f)`` of a radial run."""
-    g, dim = scheme.g, scheme.dim
-    limiter = LIMITERS[scheme.limiter]
+def _face_values(Wg, d: int, scheme: Scheme):
+    """``(plus, minus)``: the limited reconstructions of ``(h, η, u[, v])``
+    at the upper and lower face of cells 1 .. n+2 of the ghosted rows along
+    direction ``d`` (one ghost layer each side), and the cropped axis."""
+    dim = scheme.dim
     axes = [axis_of(dim, k) for k in range(dim)]
     axis = axes[d]
-    others = [a for a in axes if a != axis]
-    h, *vel, zg = (cropped(a, others, N_GHOST) for a in Wg)
-    eta = h + zg
-    # cells 1 .. n+2 of the ghosted row (one ghost layer each side) with their limited slopes
-    cells = [_trimmed(a, axis, 1, 1) for a in (h, eta, *vel)]
-    slopes = [limited_slopes(a, axis, limiter) for a in (h, eta, *vel)]
+    h, *vel, zg = (cropped(a, [a_ for a_ in axes if a_ != axis], N_GHOST) for a in Wg)
+    limiter = LIMITERS[scheme.limiter]
+    cells = [_trimmed(a, axis, 1, 1) for a in (h, h + zg, *vel)]
+    slopes = [limited_slopes(a, axis, limiter) for a in (h, h + zg, *vel)]
     plus = [c + 0.5 * s for c, s in zip(cells, slopes)]   # values at each cell's upper face
     minus = [c - 0.5 * s for c, s in zip(cells, slopes)]  # values at each cell's lower face
+    return plus, minus, axis
+
+
+def face_fluxes(Wg, d: int, scheme: Scheme):
+    """``(mass, normal momentum from the left, from the right, tangential
+    momentum)`` through the faces normal to direction ``d``: the HLLC flux
+    of the hydrostatically reconstructed states, its normal momentum
+    corrected by g (h±² − h*±²)/2 on each side (module docstring)."""
+    g, dim = scheme.g, scheme.dim
+    plus, minus, axis = _face_values(Wg, d, scheme)
     plus, minus = jax.lax.optimization_barrier((plus, minus))
     # face j lies between cells j and j + 1 of these rows: left state from plus, right from minus
     (hL, etaL, *velL), (hR, etaR, *velR) = ([_trimmed(a, axis, 0, 1) for a in plus],
@@ -159,13 +166,23 @@ def direction_rates(Wg, d: int, scheme: Scheme, radius=None):
     zL, zR = etaL - hL, etaR - hR
     z_face = jnp.maximum(zL, zR)
     hL_star, hR_star = jnp.maximum(0.0, hL + zL - z_face), jnp.maximum(0.0, hR + zR - z_face)
-    normal_L, normal_R = velL[d], velR[d]
     tangential_L = velL[1 - d] if dim == 2 else jnp.zeros_like(hL)
     tangential_R = velR[1 - d] if dim == 2 else jnp.zeros_like(hR)
     mass, mom_n, mom_t = jax.lax.optimization_barrier(
-        hllc(hL_star, normal_L, tangential_L, hR_star, normal_R, tangential_R, g))
+        hllc(hL_star, velL[d], tangential_L, hR_star, velR[d], tangential_R, g))
     from_left = mom_n + 0.5 * g * (hL * hL - hL_star * hL_star)    # the flux cell j sees at its upper face
     from_right = mom_n + 0.5 * g * (hR * hR - hR_star * hR_star)   # the flux cell j + 1 sees at its lower face
+    return mass, from_left, from_right, mom_t
+
+
+def direction_terms(Wg, fluxes, d: int, scheme: Scheme, radius=None):
+    """The part of ``dU/dt`` (one array per component of ``U``) that the faces
+    normal to direction ``d`` give, from their :func:`face_fluxes`: flux
+    differences, the bed source and, radially, the hoop term; ``radius``:
+    the cell-centre and face radii ``(r_c, r_f)`` of a radial run."""
+    g, dim = scheme.g, scheme.dim
+    mass, from_left, from_right, mom_t = fluxes
+    plus, minus, axis = _face_values(Wg, d, scheme)
     # each interior cell i: its upper face is face i + 1, its lower face face i; its own face values
     h_up, h_lo = _trimmed(plus[0], axis, 1, 1), _trimmed(minus[0], axis, 1, 1)
     z_up, z_lo = _trimmed(plus[1] - plus[0], axis, 1, 1), _trimmed(minus[1] - minus[0], axis, 1, 1)
@@ -183,7 +200,7 @@ def direction_rates(Wg, d: int, scheme: Scheme, radius=None):
 
 
 def summed(parts):
-    """The sum over directions of :func:`direction_rates`, component by component."""
+    """The sum over directions of :func:`direction_terms`, component by component."""
     return tuple(sum(p[k] for p in parts) for k in range(len(parts[0])))
 
 
@@ -191,7 +208,7 @@ def rates(U, z, scheme: Scheme, radius=None):
     """``dU/dt`` of the semi-discrete scheme (module docstring) for the state
     ``U = (h, h u[, h v])`` over the bed ``z``."""
     Wg = ghosted(U, z, scheme)
-    return summed([direction_rates(Wg, d, scheme, radius) for d in range(scheme.dim)])
+    return summed([direction_terms(Wg, face_fluxes(Wg, d, scheme), d, scheme, radius) for d in range(scheme.dim)])
 
 
 def stable_dt(U, scheme: Scheme):
