@@ -124,13 +124,13 @@ def _with_gauges(ds, output, probes, times, eta_at):
 
 
 def first_crests(ds) -> dict:
-    """Height and time of the first crest at every gauge
+    """Height, time and arrival of the first crest at every gauge
     (:func:`compare.metrics.first_crest`): ``first_crest_height_<gauge>``
-    [m] and ``first_crest_time_<gauge>`` [s]."""
+    [m], ``first_crest_time_<gauge>`` and ``first_crest_arrival_<gauge>`` [s]."""
     out = {}
     for gauge in ds["probe"].values:
         crest = metrics.first_crest(ds["eta_probe"].sel(probe=gauge))
-        out[f"first_crest_height_{gauge}"], out[f"first_crest_time_{gauge}"] = crest["height"], crest["time"]
+        out.update({f"first_crest_{what}_{gauge}": value for what, value in crest.items()})
     return out
 
 

@@ -40,6 +40,7 @@ MEASURED_UNITS = {
     "wall_peak_pressure_raw": "Pa", "wall_peak_pressure_fitted": "Pa", "wall_arrival_time": "s",
     "wall_impulse_final": "N s m-1", "wall_force_peak": "N m-1", "reflection_coefficient": "1",
     "shock_angle_deg": "degree", "shock_radius": "m", "first_crest_height": "m", "first_crest_time": "s",
+    "first_crest_arrival": "s",
 }
 
 
@@ -684,15 +685,22 @@ def first_crest(series: xr.DataArray, threshold_fraction: float = 0.1) -> dict:
     """The first crest of a wave record η(t): the first local maximum above
     ``threshold_fraction`` of the record's largest |η| (so the ripples of a
     quiet start do not count), refined by the parabola through it and its
-    two neighbours. Returns ``{"height", "time"}``; NaN for both if the
-    record never rises above the threshold."""
+    two neighbours, and its arrival: the last time before the crest at which
+    η rises through half the crest's height (linear between samples; the
+    front of a flat-topped wave, whose crest time means little). Returns
+    ``{"height", "time", "arrival"}``; NaN for all if the record never rises
+    above the threshold."""
     t, v = _series("series", series)
     level = _fraction("threshold_fraction", threshold_fraction) * float(np.max(np.abs(v)))
     rising = np.flatnonzero((v[1:-1] >= v[:-2]) & (v[1:-1] > v[2:]) & (v[1:-1] > level)) + 1
     if rising.size == 0 or level == 0.0:
-        return {"height": float("nan"), "time": float("nan")}
-    time, height = _vertex(t, v, int(rising[0]))
-    return {"height": height, "time": time}
+        return {"height": float("nan"), "time": float("nan"), "arrival": float("nan")}
+    k = int(rising[0])
+    time, height = _vertex(t, v, k)
+    below = np.flatnonzero(v[: k + 1] < 0.5 * height)
+    arrival = float(t[0]) if below.size == 0 else float(_crossings(t[below[-1]:k + 1], v[below[-1]:k + 1],
+                                                                   0.5 * height)[0])
+    return {"height": height, "time": time, "arrival": arrival}
 
 
 def plateau(series: xr.DataArray, t0: float, t1: float) -> float:

@@ -396,6 +396,12 @@ def test_first_crest_is_the_first_maximum_above_the_threshold_refined_by_a_parab
     # the parabola through three samples 0.05 s apart of a Gaussian of width 0.4 s: within 1e-3 s and 1e-3
     assert crest["time"] == pytest.approx(3.02, abs=1e-3)
     assert crest["height"] == pytest.approx(0.5, abs=1e-3)
+    # arrival: where the Gaussian rises through half its height, 0.4 sqrt(ln 2) s before its top
+    assert crest["arrival"] == pytest.approx(3.02 - 0.4 * math.sqrt(math.log(2.0)), abs=2e-3)
+    # a flat-topped wave arrives with its front
+    box = xr.DataArray(np.where((t > 2.0) & (t < 4.0), 1.0, 0.0) + 1e-3 * np.sin(7 * t), coords={"t_probe": t},
+                       dims="t_probe")
+    assert first_crest(box)["arrival"] == pytest.approx(2.025, abs=0.03)
     # a depression: the first crest is the one after the trough
     trough = xr.DataArray(-np.exp(-((t - 3) / 0.4) ** 2) + 0.3 * np.exp(-((t - 5) / 0.4) ** 2),
                           coords={"t_probe": t}, dims="t_probe")

@@ -136,3 +136,16 @@ def test_what_the_water_sph_cannot_run_is_refused_in_one_sentence(name, paramete
         cases.run(cases.get(name, **parameters), "wcsph", progress=False, **settings)
     text = str(caught.value)
     assert text.count(". ") == 0 and text.endswith(".")
+
+
+@pytest.mark.slow
+def test_a_small_prins_mound_reaches_the_gauges_as_linear_dispersive_theory_says():
+    # Q = 12 mm (a tenth of Prins'): linear theory holds; 25 particles over the 0.7 m depth
+    scene = cases.get("prins_mound", Q=0.012, t_end=3.0, length=12.0)
+    ds = cases.run(scene, "wcsph", progress=False)
+    truth = scene.measure(scene.exact(ds.time.values))
+    # acceptance: first crest height and arrival within 10 % (at 4.57 m measured: -0.95 % and -0.5 %)
+    for gauge in ("x2", "x4.57"):
+        for what, tolerance in (("height", 0.05), ("time", 0.03), ("arrival", 0.03)):
+            name = f"first_crest_{what}_{gauge}"
+            assert ds.attrs[name] == pytest.approx(truth[name], rel=tolerance)

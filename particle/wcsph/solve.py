@@ -328,7 +328,8 @@ class _Run(RunRecord):
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
         scheme = (f"weakly compressible SPH in the (x, z) slice: Tait EOS (c0 = {sph.eos.c0:.4g} m/s), quintic "
                   f"Wendland kernel (h = {0.5 * s['eta']:.4g} dx), Monaghan viscosity (alpha {s['alpha']:g}), "
-                  f"density diffusion of Fourtakas et al. 2019 (delta {s['delta']:g}), velocity Verlet at CFL "
+                  f"delta-SPH density diffusion of the departure from hydrostatic density (delta {s['delta']:g}), "
+                  f"velocity Verlet at CFL "
                   f"{s['cfl']:g}, mirror-particle walls" + (f", damping zone {s['damping']:g} m" if s["damping"] else ""))
         attrs = {"deposition": "depth-integrated: h = sum V W_1(x - x_b), u its mean horizontal velocity",
                  "wall_reflections": self.reflections, "force_interactions": sph.interactions,
