@@ -111,6 +111,12 @@ class VerletLists:
         self.seconds += _time.perf_counter() - t0
         return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None
 
+    def wrapped(self, x):
+        """Positions ``x`` with the periodic axes wrapped back into the box (in place)."""
+        for d in np.flatnonzero(self.periodic):
+            x[:, d] = self.lo[d] + np.mod(x[:, d] - self.lo[d], self.hi[d] - self.lo[d])
+        return x
+
     def renumber(self, order):
         """Follow the fluid particles into the order ``order`` (the kept
         lists with them: a re-sort costs no search)."""

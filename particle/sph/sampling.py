@@ -76,8 +76,9 @@ def _rows_of(y, y0, dy, ny, periodic, length):
 def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim):
     """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy)``
     of a uniform ``ny × nx`` grid for the ``values`` f (k, n): (k, ny, nx)
-    and (ny, nx). 1D: ``y`` zeros, ``ny = 1``. On a periodic axis the box is the grid's extent (n·spacing) and every
-    support must be below half of it. Each grid row sums the particles of
+    and (ny, nx). 1D: ``y`` zeros, ``ny = 1``. On a periodic axis the box
+    is the grid's extent (n·spacing) and every support must be below half
+    of it. Each grid row sums the particles of
     the rows its supports can reach, row by row, so threads never share a
     cell and the sums do not depend on the thread count."""
     n, k = x.size, values.shape[0]

@@ -29,7 +29,7 @@ from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.io import particle_snapshot, write_particles
 from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods, sort_order
+from particle.neighbours import neighbour_lists, padded, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
@@ -117,8 +117,7 @@ class GasSPH:
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
         self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
-        self.box, self.half = periods(self.lo, self.hi, self.periodic, self.dim)
-        #: the neighbour lists, reused while they hold every pair
+        #: the neighbour lists, reused while they hold every pair (and the periods of the box)
         self.verlet = VerletLists(scene, self.lo, self.hi, self.periodic, open_)
 
     @property
@@ -137,12 +136,6 @@ class GasSPH:
         (not out through an outflow side, nor pushed back upstream of the
         inlet)."""
         return in_box(x, self.region)
-
-    def wrap(self, x):
-        """Positions with periodic axes wrapped back into the domain."""
-        for d in np.flatnonzero(self.periodic):
-            x[:, d] = self.lo[d] + np.mod(x[:, d] - self.lo[d], self.hi[d] - self.lo[d])
-        return x
 
     def evaluate(self, P: Particles, x, v, u, buffer=None) -> Evaluation:
         """Density, support and rates of change of the fluid particles at the
@@ -172,7 +165,7 @@ class GasSPH:
             m = np.concatenate([m_real, m_real[src]])
             X3 = padded(lists.x)
             t0 = _time.perf_counter()
-            rho, H, omega, converged = density_and_support(X3, self.box, self.half, m,
+            rho, H, omega, converged = density_and_support(X3, self.verlet.box, self.verlet.half, m,
                                                            np.concatenate([H_real, H_real[src]]), lists.radius,
                                                            offsets, index, self.kind, dim, self.eta, n)
             self.seconds["density"] += _time.perf_counter() - t0
@@ -191,7 +184,7 @@ class GasSPH:
         c = np.sqrt(gamma * p / rho_all)
         V3 = padded(lists.v)
         t0 = _time.perf_counter()
-        *derived, interactions = rates(X3, self.box, self.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
+        *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
                                        alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
                                        numba.get_num_threads())
         E = Evaluation(rho, H, *derived)
@@ -309,7 +302,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
                     Q.H = E.H * np.exp(dt * E.div_v / dim)
                     v_pred, u_pred = Q.v + dt * E.dvdt, Q.u + dt * E.dudt
-                    Q.x = sph.wrap(Q.x + dt * v_half)
+                    Q.x = sph.verlet.wrapped(Q.x + dt * v_half)
                     # the safeguard: a particle the walls did not stop is mirrored back into the fluid
                     Q.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, Q.x, v_half, v_pred)
                     run.reflections += reflected

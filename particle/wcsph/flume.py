@@ -12,6 +12,7 @@ and the surface (``free``: no ghosts).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,6 +45,12 @@ class Tait:
     def sound_speed(self, rho):
         return self.c0 * (rho / self.rho0) ** (0.5 * (TAIT_GAMMA - 1.0))
 
+    def internal_energy(self, rho):
+        """The specific energy the compression stores,
+        e(ρ) = ∫_{ρ0}^{ρ} P/ρ'² dρ' = B[((ρ/ρ0)^(γ−1) − 1)/((γ−1) ρ0) + 1/ρ − 1/ρ0]."""
+        gm1 = TAIT_GAMMA - 1.0
+        return self.B * (((rho / self.rho0) ** gm1 - 1.0) / (gm1 * self.rho0) + 1.0 / rho - 1.0 / self.rho0)
+
     def hydrostatic_pressure(self, depth, g: float):
         """The pressure ``depth`` below the surface of water at rest,
         dP/dz = −ρ(P) g with P = 0 at the surface: with s = 1 + P/B,
@@ -73,7 +80,7 @@ class Flume:
 
     def without_bed(self) -> "Flume":
         """The same flume with no ghosts below the bed (the x walls only)."""
-        return Flume(self.sides, {**self.boundaries, "y_lo": "free"}, self.domain, self.bed, self.damping)
+        return dataclasses.replace(self, boundaries={**self.boundaries, "y_lo": "free"})
 
 
 def flume(scene, dx: float, damping: float | None) -> Flume:

@@ -39,7 +39,7 @@ from particle.neighbours import padded, sort_order
 from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
 from particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid
-from particle.wcsph.flume import TAIT_GAMMA, Tait, damping_rate, flume, water_at_rest
+from particle.wcsph.flume import Tait, damping_rate, flume, water_at_rest
 from particle.wcsph.rates import dynamic_density_gradients, rates
 
 SETTINGS = ("dx", "cfl", "c0", "alpha", "delta", "eta", "damping", "t_end", "progress", "particles",
@@ -93,6 +93,15 @@ class WaterSPH:
         #: wall seconds of the rates pass and the pairs it summed, over the run
         self.seconds_rates, self.interactions = 0.0, 0
 
+    @property
+    def counters(self) -> tuple:
+        """``(seconds of the rates pass, pairs summed, seconds of the lists, searches)`` of the run so far."""
+        return self.seconds_rates, self.interactions, self.verlet.seconds, self.verlet.searches
+
+    @counters.setter
+    def counters(self, value):
+        self.seconds_rates, self.interactions, self.verlet.seconds, self.verlet.searches = value
+
     def hydrostatic_density(self, z):
         """ρ_H(z): the density of water at rest under the still surface η = 0."""
         return self.eos.density(self.eos.hydrostatic_pressure(-z, self.scene.g))
@@ -119,7 +128,7 @@ class WaterSPH:
                                                   lists.offsets, lists.index, self.kind, n, threads)
             # a ghost's ρ^D mirrors its source's: the gradient's normal components flip
             G[n:] = G[src]
-            for bit, side in enumerate(self.flume.sides):
+            for bit in range(len(self.flume.sides)):
                 G[n:, bit // 2] *= np.where(lists.sides & (1 << bit), -1.0, 1.0)
         dvdt, drhodt, mu_max, pairs = rates(X3, box, half, padded(lists.v), m_all, rho_all, p_all,
                                             self.eos.sound_speed(rho_all), rho_dynamic, G, self.H, self.eos.c0,
@@ -148,18 +157,12 @@ class WaterSPH:
             keep &= x[:, 0] <= x1
         return keep
 
-    def wrap(self, x):
-        """Positions with a periodic x wrapped back into the flume."""
-        if self.flume.periodic[0]:
-            (x0, x1), _ = self.flume.domain
-            x[:, 0] = x0 + np.mod(x[:, 0] - x0, x1 - x0)
-        return x
-
     def columns(self, P: Particles, points=None):
         """``(h, u)``: the water column Σ_b V_b W_1(x − x_b) (W_1: the 1D
-        :data:`COLUMN_KERNEL`) and its mean horizontal velocity at the output grid's x (``points`` None) or at
-        the x of ``points``; the particles' mirror images across the x walls
-        complete the sums next to them."""
+        :data:`COLUMN_KERNEL`) and its mean horizontal velocity, at the
+        output grid's x (``points`` None) or at the x of ``points``; the
+        particles' mirror images across the x walls complete the sums next
+        to them."""
         support = COLUMN_SUPPORT * self.dx
         gx, gv, src, _ = mirror_ghosts(self.flume.without_bed(), P.x, P.v, support, ())
         x = np.ascontiguousarray(np.concatenate([P.x[:, 0], gx[:, 0]]))
@@ -180,11 +183,8 @@ class WaterSPH:
 
     def energy(self, P: Particles) -> float:
         """Total energy per unit width [J/m]: kinetic, potential m g z and
-        the internal energy the Tait pressure stores,
-        e(ρ) = ∫_{ρ0}^{ρ} P/ρ'² dρ' = B[((ρ/ρ0)^(γ−1) − 1)/((γ−1) ρ0) + 1/ρ − 1/ρ0]."""
-        eos, rho = self.eos, P.rho
-        gm1 = TAIT_GAMMA - 1.0
-        e = eos.B * (((rho / eos.rho0) ** gm1 - 1.0) / (gm1 * eos.rho0) + 1.0 / rho - 1.0 / eos.rho0)
+        the internal energy the Tait pressure stores (:meth:`Tait.internal_energy`)."""
+        e = self.eos.internal_energy(P.rho)
         return float(np.sum(P.m * (0.5 * np.sum(P.v * P.v, axis=1) + self.scene.g * P.x[:, 1] + e)))
 
 
@@ -233,7 +233,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
     h_gauges, _ = sph.columns(P, gauges)
     sph.columns(P)
     compile_seconds = _time.perf_counter() - t0
-    sph.seconds_rates, sph.interactions, sph.verlet.seconds, sph.verlet.searches = 0.0, 0, 0.0, 0
+    sph.counters = 0.0, 0, 0.0, 0
     run = _Run(scene, sph, settings, compile_seconds, History(h_gauges + slice_.bed, 2))
     run.energies.append((0.0, sph.energy(P)))
     out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
@@ -242,7 +242,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
     saved = ckpt.saved_state(run)
     if saved is not None:
         P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
-        sph.seconds_rates, sph.interactions, sph.verlet.seconds, sph.verlet.searches = saved["counters"]
+        sph.counters = saved["counters"]
     no_forces = np.zeros(2)
     bar = run.progress_bar(t, t_end, progress)
     with ckpt.watching_signals():
@@ -256,7 +256,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
                     dt = min(sph.stable_dt(P, E, cfl), t_out - t)
                     v_half, rho_half = P.v + 0.5 * dt * E.dvdt, P.rho + 0.5 * dt * E.drhodt
                     v_pred, rho_pred = P.v + dt * E.dvdt, P.rho + dt * E.drhodt
-                    x_new = sph.wrap(P.x + dt * v_half)
+                    x_new = sph.verlet.wrapped(P.x + dt * v_half)
                     x_new, v_half, v_pred, reflected = reflect_at_plane_walls(slice_, x_new, v_half, v_pred)
                     run.reflections += reflected
                     stay = sph.retained(x_new)
@@ -283,8 +283,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
                         run.energies.append((t, sph.energy(P)))
                         t_sampled = t
                     ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
-                                                    "counters": (sph.seconds_rates, sph.interactions,
-                                                                 sph.verlet.seconds, sph.verlet.searches)},
+                                                    "counters": sph.counters},
                                    lambda: run.fields(P))
                 run.add_frame(run.fields(P), t)
         finally:
