@@ -56,26 +56,27 @@ def _prins_flume(size: int):
 PROBLEMS = {"fv": _sedov, "sph": _sedov, "dsmc": _sedov, "swe": _square_dam_break, "wcsph": _prins_flume}
 
 
-def throughput(method: str, size: int, t_end: float) -> list[dict]:
-    """Elements advanced per second by ``method`` run to ``t_end``, compile
-    time excluded (output frames included), float64. The gas methods run 2D
+def throughput(method: str, size: int, t_end: float, **settings) -> list[dict]:
+    """Elements advanced per second by ``method`` run to ``t_end`` with
+    ``settings``, compile time excluded (output frames included), in float64
+    unless ``precision`` says otherwise (``swe``). The gas methods run 2D
     Sedov with ``size``² cells or particles; :func:`bench` takes FV at 512²
     to 0.02 (about 160 steps), SPH with 448² = 200 704 particles to 3e-3
     (about 20 steps), DSMC on 258² cells of 30 particles (2.0 million) to
     8e-3 (about 45 steps: move, sort, redraw and sampling). ``swe`` runs the
     dam break across a square basin on ``size``² cells (1024² to 0.05 s,
-    about 90 steps), ``wcsph`` the Prins flume (30 m × 0.7 m) with ``size``
+    130 steps; :func:`bench` runs it in float64 and in float32), ``wcsph`` the Prins flume (30 m × 0.7 m) with ``size``
     particles over the depth (50: 107 000 particles, to 0.01 s, about 45
     steps). SPH adds the interactions per second of its force pass (the
     ordered pairs i–j with r_ij < max(H_i, H_j) whose terms it summed, over
     the seconds spent in that pass; each pair is evaluated once for both
     particles), as does WCSPH (pairs within its one support H)."""
     scene, dx = PROBLEMS[method](size)
-    ds = run(scene, method, dx=dx, t_end=t_end, progress=False)
+    ds = run(scene, method, dx=dx, t_end=t_end, progress=False, **settings)
     n = ds.attrs["n_elements"]
     metric, unit = THROUGHPUT[method]
     common = {"method": method, "case": scene.name, "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
-              "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"], "precision": "float64"}
+              "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"], "precision": settings.get("precision", "float64")}
     records = [{**common, "metric": metric, "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit}]
     if method in ("sph", "wcsph"):
         passes = [k for k in ("seconds_search", "seconds_density", "seconds_forces") if k in ds.attrs]
@@ -117,11 +118,14 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
              "wcsph": (12 if quick else 50, 0.01)}
     for method in (m for m in THROUGHPUT if m in methods()):
         records += throughput(method, *sizes[method])
+        if method == "swe":
+            records += throughput(method, *sizes[method], precision="float32")
         if getattr(solver(method), "medium", "gas") == "gas":  # (sod is a gas scene)
             records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:8s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"
+              f"{'' if r.get('precision', 'float64') == 'float64' else ' (' + r['precision'] + ')'}"
               f"  (n = {r['n_elements']}, compile {r['compile_seconds']:.2f} s)")
     Path(output).write_text(json.dumps(records, indent=2, default=float))
     print(f"benchmark written to {output}")
