@@ -4,7 +4,9 @@
 
 from __future__ import annotations
 
-from cases import checks
+import numpy as np
+
+from cases import checks, shapes
 from cases.registry import scene_builder
 from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
 from compare import exact, metrics
@@ -48,32 +50,123 @@ def wall_load_metrics(ds, p0) -> dict:
     }
 
 
-@scene_builder("blast_wall")
-def blast_wall(blast="moderate", negative_phase="friedlander", dim=1, rho0=1.0, p0=1.0e5, gamma=1.4,
-               length=1.0, height=0.12, t_end=None):
-    """A Friedlander blast enters at x = 0 and loads a rigid wall at x = length (no obstacles)."""
+def _checked_blast(blast, negative_phase, rho0, p0, gamma, t_end):
+    """The blast settings common to the blast scenes, checked; ``t_end`` defaults to 3 ms (2 ms strong)."""
     checks.choice("blast", blast, tuple(exact.BLASTS))
     checks.choice("negative_phase", negative_phase, NEGATIVE_PHASE)
-    dim = checks.integer("dim", dim, 1, 2)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
-    length, height = checks.positive("length", length), checks.positive("height", height)
     t_end = checks.positive("t_end", (3e-3 if blast == "moderate" else 2e-3) if t_end is None else t_end)
-    domain = ((0.0, length),) if dim == 1 else ((0.0, length), (0.0, height))
+    return rho0, p0, gamma, t_end
+
+
+def _blast_channel(name, parameters, blast, negative_phase, rho0, p0, gamma, domain, height, t_end, obstacles=(),
+                   description=""):
+    """A blast scene: the blast enters at x = 0 of ``domain``, a rigid wall at
+    its far end (periodic across y in 2D), gas at rest (ρ0, p0), 1 mm
+    resolution, probes ``u``, ``d`` upstream and downstream at 0.35 and 0.85
+    of the length and ``w`` on the wall, mid-channel (``height``: the
+    channel's, whose wall the force acts on)."""
+    dim, length = len(domain), domain[0][1]
     dx = 1e-3
     shape = tuple(int(round((hi - lo) / dx)) for lo, hi in domain)
     times = tuple(t for t in (0.5e-3, 1.0e-3, 1.5e-3, 1.7e-3, 2.0e-3, 2.5e-3, 3.0e-3) if t < t_end) + (t_end,)
     y_mid = 0.5 * height
     return Scene(
-        name="blast_wall",
-        parameters=dict(blast=blast, negative_phase=negative_phase, dim=dim, rho0=rho0, p0=p0, gamma=gamma,
-                        length=length, height=height, t_end=t_end),
-        dim=dim, domain=domain, gamma=gamma, initial=lambda x, y, dx: (rho0, 0.0, 0.0, p0),
+        name=name, parameters=parameters, dim=dim, domain=domain, gamma=gamma,
+        initial=lambda x, y, dx: (rho0, 0.0, 0.0, p0),
         boundaries={"x_lo": blast_inflow(blast, negative_phase, rho0, p0, gamma), "x_hi": "reflect",
                     "y_lo": "periodic", "y_hi": "periodic"},
         output=OutputGrid(domain=domain, shape=shape, times=times, dt_probe=1e-6),
-        dx=dx, t_end=t_end, fields=("rho", "u", "v", "p", "e") if dim == 2 else ("rho", "u", "p", "e"),
+        dx=dx, t_end=t_end, obstacles=tuple(obstacles),
+        fields=("rho", "u", "v", "p", "e") if dim == 2 else ("rho", "u", "p", "e"),
         probes=(Probe("u", 0.35 * length, y_mid), Probe("d", 0.85 * length, y_mid), Probe("w", length, y_mid)),
-        wall=Wall("x_hi", p0, height), measure=lambda ds: wall_load_metrics(ds, p0),
-        description="Blast loading of a rigid wall; measured: peak wall pressure, arrival time, impulse.",
+        wall=Wall("x_hi", p0, height), measure=lambda ds: wall_load_metrics(ds, p0), description=description,
     )
+
+
+@scene_builder("blast_wall")
+def blast_wall(blast="moderate", negative_phase="friedlander", dim=1, rho0=1.0, p0=1.0e5, gamma=1.4,
+               length=1.0, height=0.12, t_end=None):
+    """A Friedlander blast enters at x = 0 and loads a rigid wall at x = length (no obstacles)."""
+    rho0, p0, gamma, t_end = _checked_blast(blast, negative_phase, rho0, p0, gamma, t_end)
+    dim = checks.integer("dim", dim, 1, 2)
+    length, height = checks.positive("length", length), checks.positive("height", height)
+    domain = ((0.0, length),) if dim == 1 else ((0.0, length), (0.0, height))
+    return _blast_channel(
+        "blast_wall", dict(blast=blast, negative_phase=negative_phase, dim=dim, rho0=rho0, p0=p0, gamma=gamma,
+                           length=length, height=height, t_end=t_end),
+        blast, negative_phase, rho0, p0, gamma, domain, height, t_end,
+        description="Blast loading of a rigid wall; measured: peak wall pressure, arrival time, impulse.")
+
+
+#: centre-to-centre distance of the rods of a column [m] (SPEC §4.2)
+ROW_PITCH = 0.04
+ARRANGEMENTS = ("inline", "staggered")
+
+
+def array_rods(shape, arrangement, rows, layers, column_pitch, size, standoff, trap_gap, length) -> list:
+    """The rods of a blast array, column by column from upstream: ``layers``
+    columns ``column_pitch`` apart (centre to centre), the downstream face of
+    the last one ``standoff`` from the wall at x = ``length``; a
+    ``trap_gap`` > 0 moves the upstream half of the columns that much further
+    upstream. A column holds ``rows`` rods at y = (k + ½) ``ROW_PITCH``; in a
+    ``staggered`` array the second, fourth, ... column from upstream is
+    shifted by half a pitch, to y = k ``ROW_PITCH``, and its rods at y = 0
+    and y = W = ``rows`` ``ROW_PITCH`` are the two halves of one rod cut by
+    the periodic sides (both listed). Every shape has the frontal extent
+    ``size`` (:data:`cases.shapes.SHAPES`), so the blockage is
+    ``size/ROW_PITCH`` for all of them."""
+    make = shapes.SHAPES[shape]
+    centres = column_pitch * np.arange(layers, dtype=float)
+    centres[: layers // 2] -= trap_gap
+    face = make(0.0, 0.0, size).bounds()[2]  # downstream face relative to the centre
+    centres += length - standoff - face - centres[-1]
+    rods = []
+    for c, xc in enumerate(centres):
+        shifted = arrangement == "staggered" and c % 2 == 1
+        ys = ROW_PITCH * np.arange(rows + 1) if shifted else ROW_PITCH * (np.arange(rows) + 0.5)
+        rods += [make(float(xc), float(yc), size) for yc in ys]
+    return rods
+
+
+@scene_builder("blast_array")
+def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_pitch=0.04, size=0.0267,
+                standoff=0.34, trap_gap=0.0, blast="moderate", negative_phase="friedlander", rho0=1.0, p0=1.0e5,
+                gamma=1.4, length=1.0, t_end=None):
+    """The blast of ``blast_wall`` in a channel [0, length] × [0, rows · 0.04 m], periodic in y, loading
+    the wall at x = length through an array of rigid rods (SPEC §4.2; :func:`array_rods`)."""
+    rho0, p0, gamma, t_end = _checked_blast(blast, negative_phase, rho0, p0, gamma, t_end)
+    checks.choice("shape", shape, tuple(shapes.SHAPES))
+    checks.choice("arrangement", arrangement, ARRANGEMENTS)
+    rows, layers = checks.integer("rows", rows, 1), checks.integer("layers", layers, 1)
+    length = checks.positive("length", length)
+    size = checks.in_range("size", size, 0.0, ROW_PITCH, lo_open=True, hi_open=True)
+    column_pitch = checks.positive("column_pitch", column_pitch)
+    standoff = checks.in_range("standoff", standoff, 0.0, length, lo_open=True, hi_open=True)
+    trap_gap = checks.non_negative("trap_gap", trap_gap)
+    if trap_gap > 0.0 and layers % 2:
+        raise checks.InputError(f"a trap_gap splits the layers into two equal sets: layers must be even, got {layers}.")
+    rods = array_rods(shape, arrangement, rows, layers, column_pitch, size, standoff, trap_gap, length)
+    width = ROW_PITCH * rows
+    for k, rod in enumerate(rods):
+        if any(shapes.overlaps(rod, other) for other in rods[k + 1:]):
+            raise checks.InputError(f"column_pitch = {column_pitch:g} m is too small for {shape} rods of size "
+                                    f"{size:g} m ({arrangement}): neighbouring columns overlap.")
+    upstream = min(rod.bounds()[0] for rod in rods)
+    if upstream <= 0.35 * length:
+        raise checks.InputError(f"the array starts at x = {upstream:.4g} m, upstream of the probe u at "
+                                f"{0.35 * length:g} m: use fewer layers, a smaller column_pitch or trap_gap, or a "
+                                "smaller standoff.")
+    if standoff <= 0.15 * length:
+        raise checks.InputError(f"standoff = {standoff:g} m puts the array over the probe d at {0.85 * length:g} m: "
+                                f"use standoff > {0.15 * length:g} m.")
+    domain = ((0.0, length), (0.0, width))
+    return _blast_channel(
+        "blast_array", dict(shape=shape, arrangement=arrangement, rows=rows, layers=layers,
+                            column_pitch=column_pitch, size=size, standoff=standoff, trap_gap=trap_gap, blast=blast,
+                            negative_phase=negative_phase, rho0=rho0, p0=p0, gamma=gamma, length=length,
+                            t_end=t_end),
+        blast, negative_phase, rho0, p0, gamma, domain, width, t_end, rods,
+        description="Blast loading of a rigid wall behind an array of rods; measured: peak wall pressure and force, "
+                    "arrival time, impulse.")
