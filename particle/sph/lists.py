@@ -73,14 +73,24 @@ class VerletLists:
         ``slack`` times the supports."""
         return self.reusable(x_real, v_real, H_real, n) or self.search(x_real, v_real, H_real, n, slack)
 
-    def search(self, x_real, v_real, H_real, n, slack) -> NeighbourLists:
+    def search(self, x_real, v_real, H_real, n, slack, growth=None) -> NeighbourLists:
         """Mirror ghosts and neighbour lists of the real particles and their
-        ghosts, complete for ``slack`` times the supports ``H_real``; kept
-        for reuse."""
+        ghosts, complete for ``slack`` times the supports ``H_real`` (times
+        ``growth``, the growth of the first supports expected before the
+        lists are renewed), plus a skin for motion: particle i gets
+        ``(slack − 1) median(H) |v_i|/max|v|`` more, so the fastest, which
+        use up the skin first (:meth:`reusable`), get twice the skin of the
+        typical particle; kept for reuse."""
         t0 = _time.perf_counter()
-        gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, slack * H_real.max(), self.open)
+        speed = np.sqrt(np.einsum("ij,ij->i", v_real, v_real))
+        fastest = float(speed.max()) if speed.size else 0.0
+        moving = (slack - 1.0) * float(np.median(H_real)) * (speed / fastest if fastest > 0.0 else 0.0 * speed)
+        reach = slack * H_real + moving
+        if growth is not None:
+            reach[: growth.size] *= growth
+        gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, float(reach.max()), self.open)
         x = np.concatenate([x_real, gx])
-        radius = slack * np.concatenate([H_real, H_real[src]])
+        radius = np.concatenate([reach, reach[src]])
         offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic)
         self.last = NeighbourLists(n, x, np.concatenate([v_real, gv]), src, sides, radius, offsets, index)
         self.searches += 1
@@ -89,14 +99,14 @@ class VerletLists:
 
     def reusable(self, x_real, v_real, H_real, n) -> NeighbourLists | None:
         """The last lists at the moved positions, if they still hold every
-        pair that can interact (Verlet 1967): a pair apart by r now was apart
-        by at most r + 2δ when they were built (δ: the largest displacement
-        of any particle since), so particle i's list is still complete for
-        the radius R_i − 2δ (R_i: the radius it was built for). Usable when
-        the particle count is the same and every support is below that
-        radius. Positions are compared index by index, so a re-sort or a
-        jump of an inflow buffer shows as a large displacement and forces
-        a new search."""
+        pair that can interact (Verlet 1967): a pair i, j apart by r now was
+        apart by at most r + δ_i + δ_j when they were built (δ: a particle's
+        displacement since), so particle i's list is still complete for the
+        radius R_i − δ_i − δ_max (R_i: the radius it was built for, δ_max:
+        the largest displacement). Usable when the particle count is the same
+        and every support is below that radius. Positions are compared index
+        by index, so a re-sort or a jump of an inflow buffer shows as a large
+        displacement and forces a new search."""
         lists = self.last
         if lists is None or lists.n != n or lists.x.shape[0] != x_real.shape[0] + lists.src.size:
             return None
@@ -106,7 +116,8 @@ class VerletLists:
         moved = x - lists.x
         for a in np.flatnonzero(self.periodic):
             moved[:, a] -= self.box[a] * np.round(moved[:, a] / self.box[a])
-        radius = lists.radius - 2.0 * np.sqrt(np.max(np.einsum("ij,ij->i", moved, moved)))
+        shift = np.sqrt(np.einsum("ij,ij->i", moved, moved))
+        radius = lists.radius - shift - shift.max()
         usable = np.all(np.concatenate([H_real, H_real[lists.src]]) < radius)
         self.seconds += _time.perf_counter() - t0
         return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None

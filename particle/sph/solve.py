@@ -58,6 +58,8 @@ SEARCH_SLACK = 1.25
 SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
 RESORT_STEPS = 10
+#: steps of support growth (at the rate ∇·v/d) a new search's lists allow for
+LOOKAHEAD_STEPS = 4
 #: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
 MIN_SUPPORT = 1e-3
 
@@ -137,10 +139,12 @@ class GasSPH:
         inlet)."""
         return in_box(x, self.region)
 
-    def evaluate(self, P: Particles, x, v, u, buffer=None) -> Evaluation:
+    def evaluate(self, P: Particles, x, v, u, buffer=None, growth=None) -> Evaluation:
         """Density, support and rates of change of the fluid particles at the
         state ``(x, v, u)``; ``P`` supplies masses, the support guess, the
-        viscosity and conduction switches and the last density. Particles whose state is
+        viscosity and conduction switches and the last density; ``growth``,
+        the supports' expected growth over the next few steps, widens the
+        lists of a new search (:meth:`VerletLists.search`). Particles whose state is
         imposed, not computed — the inflow ``buffer`` ``(x, v, rho, u, H)``
         and the walls' virtual particles — act as neighbours only; mirror
         ghosts are made of all of them."""
@@ -159,7 +163,7 @@ class GasSPH:
         slack = SEARCH_SLACK
         for _ in range(5):
             if lists is None:
-                lists = self.verlet.search(x_real, v_real, H_real, n, slack)
+                lists = self.verlet.search(x_real, v_real, H_real, n, slack, growth)
                 slack *= 1.4  # for the next search, if a solution reaches the edge of these lists
             src, offsets, index = lists.src, lists.offsets, lists.index
             m = np.concatenate([m_real, m_real[src]])
@@ -322,7 +326,9 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         Q.keep(stay)
                         v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
                     try:
-                        E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None)
+                        growth = np.exp(np.clip(div_old, 0.0, None) * (LOOKAHEAD_STEPS * dt / dim))
+                        E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None,
+                                             np.minimum(growth, SEARCH_SLACK))
                     except FloatingPointError as err:
                         raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
                                           lambda: run.fields(P, E)) from None
