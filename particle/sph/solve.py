@@ -133,10 +133,13 @@ class GasSPH:
         self.verlet.seconds = seconds["search"]
         self.seconds = {k: seconds[k] for k in self.seconds}
 
-    def retained(self, x) -> np.ndarray:
+    def retained(self, x) -> np.ndarray | None:
         """True for the particles still in the run: within the particle box
         (not out through an outflow side, nor pushed back upstream of the
-        inlet)."""
+        inlet); None where none can leave (no outflow side, no inlet: the
+        walls keep every particle in)."""
+        if not self.verlet.open and not _has_inlet(self.scene):
+            return None
         return in_box(x, self.region)
 
     def evaluate(self, P: Particles, x, v, u, buffer=None, growth=None) -> Evaluation:
@@ -322,7 +325,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
                         div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
                     stay = sph.retained(Q.x)
-                    if not stay.all():
+                    if stay is not None and not stay.all():
                         Q.keep(stay)
                         v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
                     try:
@@ -364,6 +367,11 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                 write_particles(_snapshot(sph, P, inflow, t), particles)
     run.totals = _totals(P)
     return run.dataset()
+
+
+def _has_inlet(scene) -> bool:
+    """Whether a side of ``scene`` lets gas in."""
+    return any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
 
 
 def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
@@ -494,8 +502,7 @@ class _Run(RunRecord):
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.counters[0].items()}}
-        closed = not any(isinstance(self.scene.boundaries[side], Inflow) for side in self.scene.sides)
-        if closed and self.totals is not None:
+        if not _has_inlet(self.scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0, self.totals
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, self.solid, scheme, self.n_particles, attrs
