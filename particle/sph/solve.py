@@ -188,7 +188,8 @@ class GasSPH:
                                                     (P.alpha_u, np.zeros(bx.shape[0])))]
         rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
         p = (gamma - 1.0) * rho_all * u_all
-        c = np.sqrt(gamma * p / rho_all)
+        with np.errstate(invalid="ignore"):  # a negative energy: NaN rates, which the step reports with where
+            c = np.sqrt(gamma * p / rho_all)
         V3 = padded(lists.v)
         t0 = _time.perf_counter()
         *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
