@@ -7,7 +7,10 @@ r < 0.03; 448² = 200 704 particles) in PySPH, for the side-by-side rate of
 PySPH 1.0b2's own gas-dynamics Sedov example is kept as it is (scheme
 ``mpm`` by default: cubic spline with h = 1.2 Δx, Hopkins' pressure-energy
 adaptive h, PEC integrator); only its particles are replaced, since the
-example reads a fixed 104² lattice. Install PySPH in an environment of its
+example reads a fixed 104² lattice, and it steps at a fixed Δt = 1e-6 s
+(the blast barely moves: PySPH's adaptive-h iteration converges at once,
+so this is its fastest rate; ``partmesh bench`` takes the CFL step, about
+1e-4 s). Install PySPH in an environment of its
 own (it needs numpy < 2: ``pip install "numpy<2" cython mako compyle
 cyarray`` then ``pip install pysph==1.0b2 --no-build-isolation``) and run::
 
