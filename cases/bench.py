@@ -65,9 +65,9 @@ def throughput(method: str, size: int, t_end: float, **settings) -> list[dict]:
     (about 20 steps), DSMC on 258² cells of 30 particles (2.0 million) to
     8e-3 (about 45 steps: move, sort, redraw and sampling). ``swe`` runs the
     dam break across a square basin on ``size``² cells (1024² to 0.05 s,
-    130 steps; :func:`bench` runs it in float64 and in float32), ``wcsph`` the Prins flume (30 m × 0.7 m) with ``size``
-    particles over the depth (50: 107 000 particles, to 0.01 s, about 45
-    steps). SPH adds the interactions per second of its force pass (the
+    130 steps; :func:`bench` runs it in float64 and in float32), ``wcsph``
+    the Prins flume (30 m × 0.7 m) with ``size`` particles over the depth
+    (50: 107 000 particles, to 0.01 s, about 45 steps). SPH adds the interactions per second of its force pass (the
     ordered pairs i–j with r_ij < max(H_i, H_j) whose terms it summed, over
     the seconds spent in that pass; each pair is evaluated once for both
     particles), as does WCSPH (pairs within its one support H)."""
@@ -76,7 +76,8 @@ def throughput(method: str, size: int, t_end: float, **settings) -> list[dict]:
     n = ds.attrs["n_elements"]
     metric, unit = THROUGHPUT[method]
     common = {"method": method, "case": scene.name, "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
-              "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"], "precision": settings.get("precision", "float64")}
+              "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"],
+              "precision": settings.get("precision", "float64")}
     records = [{**common, "metric": metric, "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit}]
     if method in ("sph", "wcsph"):
         passes = [k for k in ("seconds_search", "seconds_density", "seconds_forces") if k in ds.attrs]

@@ -58,8 +58,10 @@ class Stepper:
         self._update = jax.jit(lambda U, P, fluxes, dt: updated(U, P, fluxes, dt, scheme, radius))
         # apart from the update: fused with it, XLA:CPU computes the new state again for the reductions
         self._checked = jax.jit(lambda U: (stable_dt(U, scheme), gauges(U)))
-        self._gauges = jax.jit(gauges)
-        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme))
+
+    def initial_dt(self, U):
+        """The CFL step of the state ``U``."""
+        return self._checked(U)[0]
 
     def _step(self, U, dt):
         """``(U after dt, its CFL step, eta at the gauges)``
@@ -83,7 +85,7 @@ class Stepper:
                 break
             U, dt_cfl, gauges, steps = U_new, dt_new, eta, steps + 1
             t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-        return U, t, dt_cfl, self._gauges(U) if gauges is None else gauges, steps, dt
+        return U, t, dt_cfl, self._checked(U)[1] if gauges is None else gauges, steps, dt
 
     def compile(self, U) -> float:
         """Compile the kernels for these shapes; return the seconds spent."""
@@ -192,8 +194,7 @@ class _Run(RunRecord):
         for name in scene.fields:
             fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
         geometry = "1D-radial" if scene.geometry == "radial" else f"{scene.dim}D"
-        scheme = (f"{geometry} shallow water: MUSCL ({s['limiter']} limiter on h, eta, velocity), hydrostatic "
-                  "reconstruction (Audusse et al. 2004), HLLC flux, MUSCL-Hancock, "
-                  f"{s['precision']}")
+        scheme = (f"{geometry} shallow water: MUSCL-Hancock ({s['limiter']} limiter on h, eta, velocity), "
+                  f"hydrostatic reconstruction (Audusse et al. 2004), HLLC flux, {s['precision']}")
         long_names = {"u": "depth-averaged velocity x", "v": "depth-averaged velocity y"}
         return fields, None, scheme, int(np.prod(self.grid.shape)), {"regrid": how, "long_names": long_names}

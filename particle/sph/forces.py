@@ -43,8 +43,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     neighbours); ``interactions`` counts the ordered pairs (i fluid, j) with
     r_ij < max(H_i, H_j) whose terms were summed.
 
-    ``x`` and ``v`` are (N, 3) (:func:`particle.neighbours.padded`: zeros
-    beyond ``dim``), ``box``/``half`` as from :func:`particle.neighbours.periods`.
+    ``x`` is (N, 3) (:func:`particle.neighbours.padded`: zeros beyond
+    ``dim``) and ``v`` (N, dim) or (N, 3), ``box``/``half`` as from
+    :func:`particle.neighbours.periods`.
     Each fluid–fluid pair is evaluated once, in the row of its smaller index,
     and its terms are added to both particles (the lists are symmetric: j is
     in i's list exactly when i is in j's). The rows are cut into ``chunks``
@@ -66,7 +67,7 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     for j in numba.prange(N):
         for a in range(3):
             Q[j, a] = x[j, a]
-            Q[j, _V + a] = v[j, a]
+            Q[j, _V + a] = v[j, a] if a < v.shape[1] else 0.0
         Q[j, _M] = m[j]
         Q[j, _U] = u[j]
         Q[j, _RHO] = rho[j]

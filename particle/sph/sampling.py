@@ -78,9 +78,9 @@ def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, period
     of a uniform ``ny × nx`` grid for the ``values`` f (k, n): (k, ny, nx)
     and (ny, nx). 1D: ``y`` zeros, ``ny = 1``. On a periodic axis the box
     is the grid's extent (n·spacing) and every support must be below half
-    of it. Each grid row sums the particles of
-    the rows its supports can reach, row by row, so threads never share a
-    cell and the sums do not depend on the thread count."""
+    of it. Each grid row sums the particles of the rows its supports can
+    reach, row by row, so threads never share a cell and the sums do not
+    depend on the thread count."""
     n, k = x.size, values.shape[0]
     Lx, Ly = nx * dx, ny * dy
     H_max = H.max() if n else 0.0

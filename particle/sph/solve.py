@@ -190,10 +190,9 @@ class GasSPH:
         p = (gamma - 1.0) * rho_all * u_all
         with np.errstate(invalid="ignore"):  # a negative energy: NaN rates, which the step reports with where
             c = np.sqrt(gamma * p / rho_all)
-        V3 = padded(lists.v)
         t0 = _time.perf_counter()
-        *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, V3, m, u_all, rho_all, p, c, omega_all, H_all,
-                                       alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
+        *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, lists.v, m, u_all, rho_all, p, c,
+                                       omega_all, H_all, alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
                                        numba.get_num_threads())
         E = Evaluation(rho, H, *derived)
         self.seconds["forces"] += _time.perf_counter() - t0

@@ -328,8 +328,8 @@ class _Run(RunRecord):
         scheme = (f"weakly compressible SPH in the (x, z) slice: Tait EOS (c0 = {sph.eos.c0:.4g} m/s), quintic "
                   f"Wendland kernel (h = {0.5 * s['eta']:.4g} dx), Monaghan viscosity (alpha {s['alpha']:g}), "
                   f"delta-SPH density diffusion of the departure from hydrostatic density (delta {s['delta']:g}), "
-                  f"velocity Verlet at CFL "
-                  f"{s['cfl']:g}, mirror-particle walls" + (f", damping zone {s['damping']:g} m" if s["damping"] else ""))
+                  f"velocity Verlet at CFL {s['cfl']:g}, mirror-particle walls"
+                  + (f", damping zone {s['damping']:g} m" if s["damping"] else ""))
         attrs = {"deposition": "depth-integrated: h = sum V W_1(x - x_b), u its mean horizontal velocity",
                  "wall_reflections": self.reflections, "force_interactions": sph.interactions,
                  "neighbour_searches": sph.verlet.searches, "seconds_search": sph.verlet.seconds,
