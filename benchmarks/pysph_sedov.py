@@ -20,6 +20,7 @@ cyarray`` then ``pip install pysph==1.0b2 --no-build-isolation``) and run::
 import time
 
 import numpy as np
+from pysph.base.kernels import WendlandQuinticC6
 from pysph.base.utils import get_particle_array
 from pysph.examples.gas_dynamics import sedov
 
@@ -29,6 +30,13 @@ N, HALF_WIDTH, E, R_INIT, P0 = 448, 1.0, 1.0, 0.03, 1e-5
 class SedovBench(sedov.SedovPointExplosion):
     """The example with the ``sedov`` scene's particles, timing its steps."""
 
+    def add_user_options(self, group):
+        group.add_argument("--same-kernel", action="store_true",
+                           help="Wendland C6 with support 4 dx (h = 2 dx), as partmesh sph uses")
+
+    def consume_user_options(self):
+        self.hdx = 2.0 if self.options.same_kernel else sedov.kernel_factor
+
     def create_particles(self):
         dx = 2.0 * HALF_WIDTH / N
         c = -HALF_WIDTH + (np.arange(N) + 0.5) * dx
@@ -37,13 +45,18 @@ class SedovBench(sedov.SedovPointExplosion):
         hot = np.hypot(x, y) < max(R_INIT, 2.0 * dx)
         e = P0 / (sedov.gamma1 * 1.0) + np.where(hot, E / m[hot].sum(), 0.0)
         fluid = get_particle_array(name="fluid", x=x, y=y, rho=np.ones_like(x), p=sedov.gamma1 * e, e=e,
-                                   h=sedov.kernel_factor * dx, m=m)
+                                   h=self.hdx * dx, m=m)
         self.scheme.setup_properties([fluid])
         self.steps = []
         return [fluid]
 
     def configure_scheme(self):
-        self.scheme.configure_solver(dt=1e-6, tf=1.0, adaptive_timestep=False, pfreq=10**9)
+        kernel = None
+        if self.options.same_kernel:
+            self.scheme.scheme.kernel_factor = self.hdx
+            kernel = WendlandQuinticC6(dim=2)
+        self.scheme.configure_solver(kernel=kernel, dt=1e-6, tf=1.0, adaptive_timestep=False,
+                                     pfreq=10**9)
 
     def pre_step(self, solver):
         if not self.steps:
