@@ -66,11 +66,22 @@ def check_scene(scene) -> None:
                                  f"({scene.obstacles[j].to_dict()['shape']}) overlap; move them apart.")
 
 
-def check_obstacles(scene, dx: float) -> None:
-    """Refuse obstacles a run at spacing ``dx`` cannot represent: one less
-    than 4 cells (particle spacings) across, or one that reaches a side
-    where the state is imposed or wraps around (an inflow or a periodic
-    side: neither the inflow buffer nor the periodic images carry a solid)."""
+def _same_shape(a, b, tol: float) -> bool:
+    """True when shapes ``a`` and ``b`` are the same body to ``tol`` [m]."""
+    da, db = a.to_dict(), b.to_dict()
+    if da.keys() != db.keys() or da["shape"] != db["shape"]:
+        return False
+    return all(np.allclose(np.asarray(da[k], float), np.asarray(db[k], float), rtol=0.0, atol=tol)
+               for k in da if k != "shape")
+
+
+def check_obstacles(scene, dx: float, method: str, periodic_cuts: bool = True) -> None:
+    """Refuse obstacles a run of ``method`` at spacing ``dx`` cannot
+    represent: one less than 4 cells (particle spacings) across; one that
+    reaches an inflow side (the inflow buffer carries no solid); one cut by
+    a periodic side whose other part, the same shape shifted by one period,
+    is not listed (the gas would flow through the missing half), or any
+    cut one where the method cannot join the parts (not ``periodic_cuts``)."""
     from cases.scene import Inflow
 
     if scene.obstacles and scene.dim != 2:
@@ -86,13 +97,24 @@ def check_obstacles(scene, dx: float) -> None:
             if not (kind == "periodic" or isinstance(kind, Inflow)):
                 continue
             axis, upper = d // 2, d % 2 == 1
-            edge = scene.domain[axis][1 if upper else 0]
+            lo_edge, hi_edge = scene.domain[axis]
+            edge = hi_edge if upper else lo_edge
             lo, hi = (xmin, xmax) if axis == 0 else (ymin, ymax)
-            if (hi >= edge) if upper else (lo <= edge):
-                what = "the inflow" if isinstance(kind, Inflow) else "the periodic"
-                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) reaches {what} "
-                                 f"side {side} ({'xy'[axis]} = {edge:g} m); keep obstacles clear of inflow and "
-                                 "periodic sides.")
+            if not ((hi > edge) if upper else (lo < edge)):
+                continue
+            if isinstance(kind, Inflow):
+                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) reaches the "
+                                 f"inflow side {side} ({'xy'[axis]} = {edge:g} m); keep obstacles clear of it.")
+            if not periodic_cuts:
+                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) is cut by the "
+                                 f"periodic side {side} ({'xy'[axis]} = {edge:g} m), which {method} does not "
+                                 "model; run the scene with fv, or keep obstacles clear of periodic sides.")
+            period = (hi_edge - lo_edge) * (-1.0 if upper else 1.0)
+            image = shape.translated(period if axis == 0 else 0.0, period if axis == 1 else 0.0)
+            if not any(_same_shape(image, other, 1e-9 * abs(period)) for other in scene.obstacles):
+                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) is cut by the "
+                                 f"periodic side {side} ({'xy'[axis]} = {edge:g} m) but its other part, shifted "
+                                 f"by {period:g} m, is not an obstacle of the scene; list both parts.")
 
 
 def check_initial_state(scene, rho, p, x, y=None, fluid=None) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from importlib.metadata import entry_points
 
 from cases.errors import InputError, Unsupported
+from cases.tiling import tiled
 
 GROUP = "partmesh.methods"
 
@@ -32,7 +33,8 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
         **settings):
     """Run ``scene`` (a Scene or a case name) with ``method`` and return the
     schema Dataset, with the scene's measured quantities in its attributes
-    (their names listed in the attribute ``measured_quantities``).
+    (their names listed in the attribute ``measured_quantities``). A scene
+    of one period across y (``tiles`` > 1) is tiled onto its whole channel.
 
     ``settings`` go to the solver (``dx``, ``cfl``, ``t_end``, ``progress``, and
     method-specific ones). ``ensembles`` > 1 runs that many seeds of a
@@ -55,6 +57,8 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
         ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)
     else:
         ds = solver(method)(scene, **settings)
+    if getattr(scene, "tiles", 1) > 1:
+        ds = tiled(ds, scene.tiles)
     if scene.measure is not None:
         quantities = scene.measure(ds)
         ds.attrs.update(quantities)

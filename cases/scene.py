@@ -120,7 +120,9 @@ class Scene(_Scenes):
     ``exact_solution(times)``, where the scene has one, returns a schema
     Dataset on the output grid. ``measure(result)``, where given, returns the
     scene's measured quantities (e.g. a shock angle) as attributes to attach
-    to every result.
+    to every result. ``tiles`` > 1 says the domain is one period across y of
+    a channel that many periods wide, computed once and tiled onto the
+    channel by :func:`cases.run.run` (:func:`cases.tiling.tiled`).
     """
 
     name: str
@@ -140,6 +142,7 @@ class Scene(_Scenes):
     exact_solution: Callable | None = None
     measure: Callable | None = None
     description: str = ""
+    tiles: int = 1
 
     #: what the scene holds; a method runs the scenes of its medium only
     medium = "gas"

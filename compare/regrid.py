@@ -97,9 +97,14 @@ def _block_mean(v: np.ndarray, blocks: list[tuple[int, int, int]]) -> np.ndarray
         return np.where(count > 0, total / np.maximum(count, 1), np.nan)
 
 
-def _lin_weights(src: np.ndarray, hs: float, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Indices i0, i1 and weight w of dst centres between src centres, clamped at the ends."""
+def _lin_weights(src: np.ndarray, hs: float, dst: np.ndarray, periodic: bool = False):
+    """Indices i0, i1 and weight w of dst centres between src centres,
+    wrapped around a periodic axis, else clamped at the ends."""
     n = src.size
+    if periodic:
+        f = (dst - src[0]) / hs
+        i0 = np.floor(f).astype(int)
+        return i0 % n, (i0 + 1) % n, f - i0
     if n == 1:
         z = np.zeros(dst.size, dtype=int)
         return z, z, np.zeros(dst.size)
@@ -134,7 +139,7 @@ def _interp(v: np.ndarray, axes: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
         return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)
 
 
-def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None) -> tuple[np.ndarray, str]:
+def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, periodic=(False, False)) -> tuple[np.ndarray, str]:
     """Move a cell-centred field from a uniform source grid onto a uniform output grid.
 
     Parameters
@@ -148,6 +153,10 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None) -> tuple[np.nda
         increasing and uniformly spaced.
     src_y, dst_y : 1D arrays, optional
         The same along y for 2D fields (give both or neither).
+    periodic : (bool, bool)
+        Whether the domain wraps around along x and y: linear interpolation
+        then takes the neighbours across the periodic side instead of
+        clamping.
 
     Returns
     -------
@@ -168,7 +177,8 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None) -> tuple[np.nda
     * ``"linear interpolation"``: otherwise,
       q(x) = (1 − w) q_i + w q_{i+1}, w = (x − x_i)/Δx (the tensor product of
       that in 2D), with output centres beyond the outermost source centres
-      given the edge value (clamping). NaN corner values are dropped and the
+      given the edge value (clamping) or, on a periodic axis, interpolated
+      across the periodic side. NaN corner values are dropped and the
       remaining weights renormalised; NaN if every corner with a non-zero
       weight is NaN.
 
@@ -206,5 +216,6 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None) -> tuple[np.nda
         spec = [(m, k, d.size) for (m, k), (_, _, d, _) in zip(blocks, pairs)]
         return _block_mean(v, spec), "conservative average"
 
-    axes = [_lin_weights(s, hs, d) for s, hs, d, _ in pairs]
+    wraps = [periodic[1], periodic[0]] if two_d else [periodic[0]]
+    axes = [_lin_weights(s, hs, d, wrap) for (s, hs, d, _), wrap in zip(pairs, wraps)]
     return _interp(v, axes), "linear interpolation"

@@ -47,27 +47,33 @@ def mesh(grid: grids.Grid) -> tuple[np.ndarray, np.ndarray | None]:
     return X, Y
 
 
-def bilinear_stencil(grid: grids.Grid, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def bilinear_stencil(grid: grids.Grid, points: np.ndarray, periodic=(False, False)) -> tuple[np.ndarray, np.ndarray]:
     """Flat indices ``(n, 2**dim)`` into the field layout ``([y,] x)`` and the
     (bi)linear interpolation weights of the cell centres around each of the
-    ``points`` ``(n, dim)``; points beyond the outermost centres take the
+    ``points`` ``(n, dim)``; along a ``periodic`` axis (x, y) the stencil
+    wraps around, elsewhere points beyond the outermost centres take the
     edge value (clamped)."""
     points = np.atleast_2d(np.asarray(points, float))
     axes = cell_centres(grid)
-    lower, frac = [], []
+    lower, upper, frac = [], [], []
     for d, centres in enumerate(axes):
+        n = len(centres)
         s = (points[:, d] - centres[0]) / grid.step[d]
-        s = np.clip(s, 0.0, len(centres) - 1)
-        i = np.minimum(np.floor(s).astype(int), max(len(centres) - 2, 0))
+        if periodic[d]:
+            i = np.floor(s).astype(int)
+            lower.append(i % n)
+            upper.append((i + 1) % n)
+            frac.append(s - i)
+            continue
+        s = np.clip(s, 0.0, n - 1)
+        i = np.minimum(np.floor(s).astype(int), max(n - 2, 0))
         lower.append(i)
+        upper.append(np.minimum(i + 1, n - 1))
         frac.append(s - i)
     if len(axes) == 1:
-        idx = np.stack([lower[0], np.minimum(lower[0] + 1, grid.shape[0] - 1)], axis=1)
-        w = np.stack([1 - frac[0], frac[0]], axis=1)
-        return idx, w
+        return np.stack([lower[0], upper[0]], axis=1), np.stack([1 - frac[0], frac[0]], axis=1)
     nx = grid.shape[0]
-    i, j, fx, fy = lower[0], lower[1], frac[0], frac[1]
-    i1, j1 = np.minimum(i + 1, grid.shape[0] - 1), np.minimum(j + 1, grid.shape[1] - 1)
+    (i, j), (i1, j1), (fx, fy) = lower, upper, frac
     idx = np.stack([j * nx + i, j * nx + i1, j1 * nx + i, j1 * nx + i1], axis=1)
     w = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)
     return idx, w

@@ -13,6 +13,7 @@ from cases.checkpoint import checkpoint_for
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
+from cases.shapes import solid_mask
 from compare.regrid import to_output_grid
 from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
@@ -86,15 +87,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         p = primitive(tuple(a.ravel()[probe_idx] for a in U), gamma)[-1]
         return jnp.sum(p * probe_w, axis=-1)
 
-    U_solid = U
-    stepper = Stepper(
-        scheme,
-        fill_solids=ib.fill if ib is not None else None,
-        fluid=jnp.asarray(ib.fluid) if ib is not None else None,
-        reset_solids=(lambda V: ib.reset(V, U_solid)) if ib is not None else None,
-        probe_sampler=probe_pressure,
-    )
-    run = _Run(scene, grid, None if ib is None else ~ib.fluid, settings,
+    stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure)
+    solid = None if ib is None else solid_mask(scene.obstacles, X, Y)
+    run = _Run(scene, grid, ib, solid, settings,
                compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     t = 0.0
@@ -116,7 +111,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 
     def diagnose(U, t, step, dt):
         U, t = run.failed_step or (U, t)
-        return _diagnose(U, gamma, grid, t, step, dt, run.solid)
+        return _diagnose(U, gamma, grid, t, step, dt, None if ib is None else ib.fluid)
 
     return march(run, U, t, dt_cfl, t_end, advance, diagnose, ckpt, bar)
 
@@ -124,21 +119,40 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 def _immersed(scene, grid, dx):
     """The immersed boundary of the scene's obstacles on ``grid`` (or None),
     refusing a grid too coarse to resolve them."""
-    check_obstacles(scene, dx)
+    check_obstacles(scene, dx, "fv")
     if not scene.obstacles:
         return None
-    return immersed_boundary(grid, scene.obstacles)
+    return immersed_boundary(grid, scene.obstacles, _periodic(scene))
+
+
+def _periodic(scene) -> tuple[bool, ...]:
+    """Whether the domain wraps around along x (and y)."""
+    return tuple(scene.boundaries[side] == "periodic" for side in scene.sides[::2])
+
+
+def _closed(scene) -> bool:
+    """True when no gas can enter or leave: every side a wall or periodic."""
+    return all(scene.boundaries[side] in ("reflect", "periodic") for side in scene.sides)
 
 
 class _Run(RunRecord):
     """The record of one fv run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
 
-    def __init__(self, scene, grid, solid, settings, compile_seconds, history):
+    def __init__(self, scene, grid, immersed, solid, settings, compile_seconds, history):
         super().__init__(scene, "fv", settings, compile_seconds, history)
-        self.grid, self.solid = grid, solid
+        self.grid, self.immersed, self.solid = grid, immersed, solid
+        #: mass, momentum and energy in the gas at the first and the latest frame
+        self.totals0 = self.totals = None
 
     def fields(self, U):
+        cell = float(np.prod(self.grid.step))
+        if self.immersed is None:
+            self.totals = np.array([float(jnp.sum(a)) * cell for a in U])
+        else:
+            self.totals = self.immersed.totals(U, cell)
+        if self.totals0 is None:
+            self.totals0 = self.totals
         return _fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
 
     def output(self):
@@ -146,21 +160,27 @@ class _Run(RunRecord):
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
         fields, how = {}, "identity"
-        solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs)[0] > 0.5
+        periodic = _periodic(scene) + (False,)
+        solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs,
+                                                                   periodic=periodic)[0] > 0.5
         for name in scene.fields:
-            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
+            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs, periodic=periodic)
             if solid_out is not None:
                 fields[name][:, solid_out] = np.nan
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
-                  f"{', ghost-cell immersed boundary' if self.solid is not None else ''}, "
-                  "a-posteriori positivity fallback to first order")
-        return fields, solid_out, scheme, int(np.prod(self.grid.shape)), {"regrid": how}
+                  f"{', conservative cut-cell immersed boundary with flux redistribution' if self.solid is not None else ''}"
+                  ", a-posteriori positivity fallback to first order")
+        attrs = {"regrid": how}
+        if _closed(scene) and self.totals is not None:
+            (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
+            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
+        return fields, solid_out, scheme, int(np.prod(self.grid.shape)), attrs
 
 
-def _diagnose(U, gamma, grid, t, n_steps, dt, solid):
+def _diagnose(U, gamma, grid, t, n_steps, dt, fluid=None):
     """One sentence: when, where and what went wrong."""
     W = [np.asarray(a) for a in primitive(U, gamma)]
-    fluid = np.ones(W[0].shape, bool) if solid is None else ~solid
+    fluid = np.ones(W[0].shape, bool) if fluid is None else fluid
     for k, name in ((0, "density"), (-1, "pressure")):
         bad = fluid & ~(W[k] > 0)
         if np.any(bad):

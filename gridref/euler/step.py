@@ -8,7 +8,8 @@ transverse Riemann solves).
 3. face states ``W^{n+1/2} ± ΔW_d/2``; a cell whose face states are not
    physical (ρ ≤ 0 or p ≤ 0) falls back to first order (zero slope, no
    predictor) — the positivity fallback;
-4. a Riemann flux per face, ``U^{n+1} = U − Δt Σ_d (F_{d,i+1/2} − F_{d,i−1/2})/Δx_d``.
+4. a Riemann flux per face, ``U^{n+1} = U − Δt Σ_d (F_{d,i+1/2} − F_{d,i−1/2})/Δx_d``
+   (around obstacles the cut-cell form of :mod:`gridref.euler.immersed`).
 
 Sums over directions are formed before they are applied, so the update is
 exactly symmetric under exchanging x and y on a square grid.
@@ -154,17 +155,22 @@ def second_order_allowed(ok, U_new, gamma):
     return ok & ~_dilated(jnp.pad(bad, 1))
 
 
-def flux_update(U, fluxes, dt, scheme: Scheme):
-    """``(U^{n+1}, side_forces)`` from the face fluxes of every direction.
+def flux_divergence(fluxes, scheme: Scheme, apertures=None):
+    """``(D, side_forces)``: the flux divergence ``Σ_d (α F_{d,i+1/2} −
+    α F_{d,i−1/2})/Δx_d`` of every cell from the face fluxes of every
+    direction, with the faces' open fractions ``apertures`` (one array per
+    direction; all open if None).
 
     ``side_forces[i]`` is the normal momentum flux integrated over side
     ``i`` (per metre depth in 2D, per square metre in 1D): the time-centred
     force the gas exerts on that side.
     """
     axes, dx, dim = scheme.axes, scheme.dx, scheme.dim
-    divergence = [0.0] * len(U)
+    divergence = [0.0] * len(fluxes[0])
     forces = []
     for d, F in enumerate(fluxes):
+        if apertures is not None:
+            F = tuple(f * apertures[d] for f in F)
         inv_dx = 1.0 / dx[d]
         divergence = [acc + (_shifted(f, axes[d], False) - _shifted(f, axes[d], True)) * inv_dx
                       for acc, f in zip(divergence, F)]
@@ -173,7 +179,22 @@ def flux_update(U, fluxes, dt, scheme: Scheme):
         n = momentum.shape[axes[d]]
         forces += [jnp.sum(jnp.take(momentum, 0, axis=axes[d])) * face_area,
                    jnp.sum(jnp.take(momentum, n - 1, axis=axes[d])) * face_area]
-    return tuple(u - dt * div for u, div in zip(U, divergence)), jnp.stack(forces)
+    return divergence, jnp.stack(forces)
+
+
+def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
+    """``(U^{n+1}, side_forces)`` from the face fluxes of every direction
+    (:func:`flux_divergence`); with an ``immersed`` boundary, the cut-cell
+    update with its walls' pressure from the half-step state ``Wh`` (the
+    interior plus one ghost layer) and flux redistribution
+    (:mod:`gridref.euler.immersed`)."""
+    if immersed is None:
+        divergence, forces = flux_divergence(fluxes, scheme)
+        return tuple(u - dt * div for u, div in zip(U, divergence)), forces
+    divergence, forces = flux_divergence(fluxes, scheme, immersed.apertures)
+    W = tuple(cropped(a, scheme.axes) for a in Wh)
+    walls = immersed.wall_divergence(W, scheme.gamma, scheme.riemann)
+    return immersed.advanced(U, [d + w for d, w in zip(divergence, walls)], dt), forces
 
 
 class Stepper:
@@ -193,14 +214,15 @@ class Stepper:
     #: state is declared unphysical
     RETRIES = 2
 
-    def __init__(self, scheme: Scheme, fill_solids: Callable | None = None, fluid=None,
-                 reset_solids: Callable | None = None, probe_sampler: Callable | None = None):
+    def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None):
         self.scheme = scheme
+        fluid = None if immersed is None else jnp.asarray(immersed.fluid)
+        fill_solids = None if immersed is None else immersed.fill
 
-        def update(U, F, dt):
-            U_new, forces = flux_update(U, F, dt, scheme)
-            if reset_solids is not None:
-                U_new = reset_solids(U_new)
+        def update(U, F, Wh, dt):
+            U_new, forces = flux_update(U, F, dt, scheme, Wh, immersed)
+            if immersed is not None:
+                U_new = immersed.reset(U_new, solid_state)
             probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
             return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
 
@@ -217,13 +239,13 @@ class Stepper:
         Wg = self._ghosts(U, states)
         slopes = self._slopes(Wg)
         Wh, ok = self._half(Wg, slopes, dt)
-        out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
+        out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], Wh, dt)
         for _ in range(self.RETRIES):
             if np.isfinite(float(out[1])):
                 break
             ok = self._demote(ok, out[0])
             Wh, ok = self._half_allowed(Wg, slopes, dt, ok)
-            out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], dt)
+            out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], Wh, dt)
         return out[0], float(out[1]), out[2], out[3]
 
     def compile(self, U, states) -> float:
@@ -234,5 +256,5 @@ class Stepper:
         slopes = self._slopes(Wg)
         Wh, ok = self._half(Wg, slopes, dt)
         Wh, ok = self._half_allowed(Wg, slopes, dt, self._demote(ok, U))
-        jax.block_until_ready(self._update(U, [f(Wh, slopes[d], ok) for d, f in enumerate(self._flux)], dt))
+        jax.block_until_ready(self._update(U, [f(Wh, slopes[d], ok) for d, f in enumerate(self._flux)], Wh, dt))
         return _time.perf_counter() - t0

@@ -255,7 +255,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
-    check_obstacles(scene, dx)
+    check_obstacles(scene, dx, "sph", periodic_cuts=False)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
