@@ -127,15 +127,27 @@ class ImmersedBoundary:
 
     def mixed(self, U):
         """``U`` with every merged group of cells set to its mean, Σ κ U / Σ κ."""
-        n = self.volume.size
-        kappa = self.volume.ravel()
-        volume = jax.ops.segment_sum(kappa, self.group, n)[self.group]
-        merged = jnp.asarray(self.group != np.arange(n)) | (volume > kappa)
+        members, label = self.merged
+        if members.size == 0:
+            return U
+        kappa = self.volume.ravel()[members]
+        n_groups = int(label.max()) + 1
+        volume = np.bincount(label, weights=kappa, minlength=n_groups)
         out = []
         for u in U:
-            mean = jax.ops.segment_sum(kappa * u.ravel(), self.group, n)[self.group] / jnp.where(merged, volume, 1.0)
-            out.append(jnp.where(merged, mean, u.ravel()).reshape(u.shape))
+            flat = u.ravel()
+            total = jax.ops.segment_sum(kappa * flat[members], label, n_groups)
+            out.append(flat.at[members].set((total / volume)[label]).reshape(u.shape))
         return tuple(out)
+
+    @property
+    def merged(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(cells, label)``: the flat indices of the cells in groups of
+        more than one, and their group numbered from 0."""
+        size = np.bincount(self.group, minlength=self.group.size)
+        members = np.flatnonzero(size[self.group] > 1)
+        _, label = np.unique(self.group[members], return_inverse=True)
+        return members, label
 
     def totals(self, U, cell_volume: float) -> np.ndarray:
         """Σ κ U V of every conserved variable (mass, momentum, energy)."""
@@ -150,7 +162,7 @@ def _box_sum(a, periodic):
         width[axis] = (1, 1)
         padded = jnp.pad(a, width, mode="wrap" if wrap else "constant")
         n = a.shape[axis]
-        a = sum(jnp.take(padded, jnp.arange(k, k + n), axis=axis) for k in range(3))
+        a = sum(jax.lax.slice_in_dim(padded, k, k + n, axis=axis) for k in range(3))
     return a
 
 
