@@ -152,6 +152,7 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     column_pitch = checks.positive("column_pitch", column_pitch)
     standoff = checks.in_range("standoff", standoff, 0.0, length, lo_open=True, hi_open=True)
     trap_gap = checks.non_negative("trap_gap", trap_gap)
+    one_period = bool(checks.choice("one_period", one_period, (False, True)))
     if trap_gap > 0.0 and layers % 2:
         raise checks.InputError(f"a trap_gap splits the layers into two equal sets: layers must be even, got {layers}.")
     width = ROW_PITCH * rows
@@ -169,7 +170,6 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     if standoff <= 0.15 * length:
         raise checks.InputError(f"standoff = {standoff:g} m puts the array over the probe d at {0.85 * length:g} m: "
                                 f"use standoff > {0.15 * length:g} m.")
-    one_period = bool(checks.choice("one_period", one_period, (False, True)))
     computed = ROW_PITCH if one_period else width
     return _blast_channel(
         "blast_array", dict(shape=shape, arrangement=arrangement, rows=rows, layers=layers,

@@ -96,6 +96,11 @@ class _Scenes:
     def sides(self) -> tuple[str, ...]:
         return SIDES[: 2 * self.dim]
 
+    @property
+    def periodic(self) -> tuple[bool, ...]:
+        """Whether the domain wraps around along x (and y)."""
+        return tuple(self.boundaries[side] == "periodic" for side in self.sides[::2])
+
     def exact(self, times=None):
         """The exact solution at ``times`` (default: the output times) as a
         schema Dataset, or ``None`` where the scene has none."""

@@ -97,8 +97,9 @@ def _block_mean(v: np.ndarray, blocks: list[tuple[int, int, int]]) -> np.ndarray
         return np.where(count > 0, total / np.maximum(count, 1), np.nan)
 
 
-def _lin_weights(src: np.ndarray, hs: float, dst: np.ndarray, periodic: bool = False):
-    """Indices i0, i1 and weight w of dst centres between src centres,
+def linear_weights(src: np.ndarray, hs: float, dst: np.ndarray, periodic: bool = False):
+    """Indices i0, i1 and weight w of the points ``dst`` between the uniform
+    centres ``src`` (spacing ``hs``), q(dst) = (1 − w) q[i0] + w q[i1]:
     wrapped around a periodic axis, else clamped at the ends."""
     n = src.size
     if periodic:
@@ -217,5 +218,5 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, periodic=(False
         return _block_mean(v, spec), "conservative average"
 
     wraps = [periodic[1], periodic[0]] if two_d else [periodic[0]]
-    axes = [_lin_weights(s, hs, d, wrap) for (s, hs, d, _), wrap in zip(pairs, wraps)]
+    axes = [linear_weights(s, hs, d, wrap) for (s, hs, d, _), wrap in zip(pairs, wraps)]
     return _interp(v, axes), "linear interpolation"

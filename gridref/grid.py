@@ -7,6 +7,7 @@ import numpy as np
 from jax_cfd.base import grids
 
 from cases.checks import InputError
+from compare.regrid import linear_weights
 
 
 def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Grid:
@@ -55,21 +56,8 @@ def bilinear_stencil(grid: grids.Grid, points: np.ndarray, periodic=(False, Fals
     edge value (clamped)."""
     points = np.atleast_2d(np.asarray(points, float))
     axes = cell_centres(grid)
-    lower, upper, frac = [], [], []
-    for d, centres in enumerate(axes):
-        n = len(centres)
-        s = (points[:, d] - centres[0]) / grid.step[d]
-        if periodic[d]:
-            i = np.floor(s).astype(int)
-            lower.append(i % n)
-            upper.append((i + 1) % n)
-            frac.append(s - i)
-            continue
-        s = np.clip(s, 0.0, n - 1)
-        i = np.minimum(np.floor(s).astype(int), max(n - 2, 0))
-        lower.append(i)
-        upper.append(np.minimum(i + 1, n - 1))
-        frac.append(s - i)
+    lower, upper, frac = zip(*(linear_weights(c, h, points[:, d], periodic[d])
+                               for d, (c, h) in enumerate(zip(axes, grid.step))))
     if len(axes) == 1:
         return np.stack([lower[0], upper[0]], axis=1), np.stack([1 - frac[0], frac[0]], axis=1)
     nx = grid.shape[0]

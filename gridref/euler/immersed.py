@@ -47,7 +47,7 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.spatial import cKDTree
 
-from cases.shapes import signed_distance
+from cases.shapes import normal, signed_distance
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.grid import bilinear_stencil, mesh
 
@@ -66,6 +66,7 @@ class ImmersedBoundary:
 
     shape: tuple[int, ...]  # field layout (ny, nx)
     volume: np.ndarray  # (ny, nx) κ, the open volume fraction
+    solid: np.ndarray  # (ny, nx) cell centres inside a body (the output's solid mask)
     apertures: tuple[np.ndarray, np.ndarray]  # α of the x faces (ny, nx+1) and y faces (ny+1, nx)
     cut: np.ndarray  # flat indices of the cells holding a piece of wall
     wall: np.ndarray  # (2, n_cut) B/V: wall length over cell area, times its unit normal into the solid
@@ -100,8 +101,7 @@ class ImmersedBoundary:
         Riemann problem between the cell's primitive state ``W`` and its
         mirror image across the wall."""
         rho, u, v, p = (a.ravel()[self.cut] for a in W)
-        length = jnp.hypot(self.wall[0], self.wall[1])
-        nx, ny = self.wall / jnp.where(length > 0.0, length, 1.0)
+        nx, ny = self.wall / np.hypot(*self.wall)  # (every cut cell holds a piece of wall)
         un, ut = u * nx + v * ny, v * nx - u * ny
         p_wall = RIEMANN_SOLVERS[riemann]((rho, un, ut, p), (rho, -un, ut, p), gamma)[1]
         zero = jnp.zeros(self.shape)
@@ -149,11 +149,6 @@ class ImmersedBoundary:
         _, label = np.unique(self.group[members], return_inverse=True)
         return members, label
 
-    def totals(self, U, cell_volume: float) -> np.ndarray:
-        """Σ κ U V of every conserved variable (mass, momentum, energy)."""
-        return np.array([float(np.sum(self.volume * np.asarray(a))) * cell_volume for a in U])
-
-
 def _box_sum(a, periodic):
     """Sum over each cell's 3 × 3 neighbourhood (itself included): wrapped
     along periodic axes, zero beyond the other sides."""
@@ -164,20 +159,6 @@ def _box_sum(a, periodic):
         n = a.shape[axis]
         a = sum(jax.lax.slice_in_dim(padded, k, k + n, axis=axis) for k in range(3))
     return a
-
-
-def union_distance(shapes, X, Y) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Signed distance to the union of ``shapes`` and the outward normal of
-    the nearest one, at the points ``(X, Y)``."""
-    phis = np.stack([s.signed_distance(X, Y) for s in shapes])
-    nearest = np.argmin(phis, axis=0)
-    phi = np.take_along_axis(phis, nearest[None], axis=0)[0]
-    nx, ny = np.zeros_like(phi), np.zeros_like(phi)
-    for k, shape in enumerate(shapes):
-        here = nearest == k
-        if np.any(here):
-            nx[here], ny[here] = shape.normal(X[here], Y[here])
-    return phi, nx, ny
 
 
 def _open_fraction(shapes, x0, y0, ex, ey, h) -> np.ndarray:
@@ -275,7 +256,7 @@ def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0) 
     # B/V = −(Σ_f α_f A_f n_f)/V: the wall vector that closes each cell, per cell area
     wall = np.stack([-(ax[:, 1:] - ax[:, :-1]) / h, -(ay[1:] - ay[:-1]) / h])
     cut = np.flatnonzero((kappa > 0.0) & (np.hypot(wall[0], wall[1]) > 1e-12 / h))
-    phi, nx, ny = union_distance(shapes, X, Y)
+    phi, (nx, ny) = signed_distance(shapes, X, Y), normal(shapes, X, Y)
     fluid = kappa > 0.0
     ghost = np.flatnonzero(~fluid & (phi > -band * h))
     g_phi, g_nx, g_ny = phi.ravel()[ghost], nx.ravel()[ghost], ny.ravel()[ghost]
@@ -293,7 +274,7 @@ def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0) 
         total[orphans] = 1.0
     weights = weights / total[:, None]
     return ImmersedBoundary(
-        shape=kappa.shape, volume=kappa, apertures=(ax, ay), cut=cut,
+        shape=kappa.shape, volume=kappa, solid=phi < 0.0, apertures=(ax, ay), cut=cut,
         wall=np.stack([w.ravel()[cut] for w in wall]), ghost=ghost, stencil=stencil, weights=weights,
         normal=np.stack([g_nx, g_ny]), periodic=tuple(bool(p) for p in periodic), group=merge_groups(kappa, periodic),
     )

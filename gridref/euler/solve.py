@@ -13,7 +13,6 @@ from cases.checkpoint import checkpoint_for
 from cases.errors import InputError
 from cases.history import History, RunRecord
 from cases.scene import Inflow
-from cases.shapes import solid_mask
 from compare.regrid import to_output_grid
 from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
@@ -88,8 +87,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         return jnp.sum(p * probe_w, axis=-1)
 
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure)
-    solid = None if ib is None else solid_mask(scene.obstacles, X, Y)
-    run = _Run(scene, grid, ib, solid, settings,
+    run = _Run(scene, grid, ib, settings,
                compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     t = 0.0
@@ -122,12 +120,7 @@ def _immersed(scene, grid, dx):
     check_obstacles(scene, dx, "fv")
     if not scene.obstacles:
         return None
-    return immersed_boundary(grid, scene.obstacles, _periodic(scene))
-
-
-def _periodic(scene) -> tuple[bool, ...]:
-    """Whether the domain wraps around along x (and y)."""
-    return tuple(scene.boundaries[side] == "periodic" for side in scene.sides[::2])
+    return immersed_boundary(grid, scene.obstacles, scene.periodic)
 
 
 def _closed(scene) -> bool:
@@ -139,18 +132,17 @@ class _Run(RunRecord):
     """The record of one fv run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
 
-    def __init__(self, scene, grid, immersed, solid, settings, compile_seconds, history):
+    def __init__(self, scene, grid, immersed, settings, compile_seconds, history):
         super().__init__(scene, "fv", settings, compile_seconds, history)
-        self.grid, self.immersed, self.solid = grid, immersed, solid
+        self.grid = grid
+        #: the open volume fraction of every cell (1 without obstacles) and the cells whose centre is in a body
+        self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
 
     def fields(self, U):
         cell = float(np.prod(self.grid.step))
-        if self.immersed is None:
-            self.totals = np.array([float(jnp.sum(a)) * cell for a in U])
-        else:
-            self.totals = self.immersed.totals(U, cell)
+        self.totals = np.array([float(np.sum(self.volume * np.asarray(a))) * cell for a in U])
         if self.totals0 is None:
             self.totals0 = self.totals
         return _fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
@@ -160,16 +152,16 @@ class _Run(RunRecord):
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
         fields, how = {}, "identity"
-        periodic = _periodic(scene) + (False,)
+        periodic = scene.periodic + (False,)
         solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs,
                                                                    periodic=periodic)[0] > 0.5
         for name in scene.fields:
             fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs, periodic=periodic)
             if solid_out is not None:
                 fields[name][:, solid_out] = np.nan
+        walls = ", conservative cut-cell immersed boundary (flux redistribution, small cells merged)"
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
-                  f"{', conservative cut-cell immersed boundary with flux redistribution' if self.solid is not None else ''}"
-                  ", a-posteriori positivity fallback to first order")
+                  f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order")
         attrs = {"regrid": how}
         if _closed(scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]

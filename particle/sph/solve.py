@@ -118,7 +118,7 @@ class GasSPH:
         self.dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
-        self.periodic = np.array([scene.boundaries[scene.sides[2 * d]] == "periodic" for d in range(self.dim)])
+        self.periodic = np.array(scene.periodic)
         #: the neighbour lists, reused while they hold every pair (and the periods of the box)
         self.verlet = VerletLists(scene, self.lo, self.hi, self.periodic, open_)
 
