@@ -75,13 +75,12 @@ def _same_shape(a, b, tol: float) -> bool:
                for k in da if k != "shape")
 
 
-def check_obstacles(scene, dx: float, method: str, periodic_cuts: bool = True) -> None:
-    """Refuse obstacles a run of ``method`` at spacing ``dx`` cannot
-    represent: one less than 4 cells (particle spacings) across; one that
-    reaches an inflow side (the inflow buffer carries no solid); one cut by
-    a periodic side whose other part, the same shape shifted by one period,
-    is not listed (the gas would flow through the missing half), or any
-    cut one where the method cannot join the parts (not ``periodic_cuts``)."""
+def check_obstacles(scene, dx: float) -> None:
+    """Refuse obstacles a run at spacing ``dx`` cannot represent: one less
+    than 4 cells (particle spacings) across; one that reaches an inflow
+    side (the inflow buffer carries no solid); one cut by a periodic side
+    whose other part, the same shape shifted by one period, is not listed
+    (the gas would flow through the missing half)."""
     from cases.scene import Inflow
 
     if scene.obstacles and scene.dim != 2:
@@ -105,10 +104,6 @@ def check_obstacles(scene, dx: float, method: str, periodic_cuts: bool = True) -
             if isinstance(kind, Inflow):
                 raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) reaches the "
                                  f"inflow side {side} ({'xy'[axis]} = {edge:g} m); keep obstacles clear of it.")
-            if not periodic_cuts:
-                raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) is cut by the "
-                                 f"periodic side {side} ({'xy'[axis]} = {edge:g} m), which {method} does not "
-                                 "model; run the scene with fv, or keep obstacles clear of periodic sides.")
             period = (hi_edge - lo_edge) * (-1.0 if upper else 1.0)
             image = shape.translated(period if axis == 0 else 0.0, period if axis == 1 else 0.0)
             if not any(_same_shape(image, other, 1e-9 * abs(period)) for other in scene.obstacles):

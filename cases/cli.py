@@ -96,6 +96,26 @@ def cmd_sweep(args) -> int:
     return 3 if counts["failed"] else 0
 
 
+def cmd_study(args) -> int:
+    from cases.blast_study import run_study
+
+    methods = [m.strip() for m in args.methods.split(",")]
+    dx = {}
+    for pair in args.dx or []:
+        method, sep, value = pair.partition("=")
+        if not sep or method not in methods:
+            raise InputError(f"--dx expects METHOD=DX for one of {', '.join(methods)}, got {pair!r}.")
+        dx[method] = float(value)
+    settings = _settings(args.option)
+    table = run_study(methods, [p.strip() for p in args.parts.split(",")], Path(args.output), dx, settings,
+                      scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    columns = [c for c in ("configuration", "method", "wall_peak_pressure_fitted", "wall_arrival_time",
+                           "wall_force_peak_fitted", "wall_impulse_final", "wall_seconds") if c in table]
+    print(table[columns].to_string(index=False))
+    print(f"study written to {args.output}")
+    return 0
+
+
 def cmd_compare(args) -> int:
     from cases.reporting import compare_files
 
@@ -117,6 +137,15 @@ def cmd_bench(args) -> int:
 
     bench(args.output, size=args.size, quick=args.quick)
     return 0
+
+
+def _runs_on_dask(p, output: str, what: str) -> None:
+    """The options of a command whose runs go to Dask: seed, scheduler, workers, output folder, quiet."""
+    p.add_argument("--seed", type=int, help="random seed of the stochastic methods")
+    p.add_argument("--scheduler", help="Dask scheduler address (default: a LocalCluster)")
+    p.add_argument("--workers", type=int, help="LocalCluster worker processes (default: one per core)")
+    p.add_argument("-o", "--output", default=output, help=what)
+    p.add_argument("--quiet", action="store_true")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -159,12 +188,20 @@ def parser() -> argparse.ArgumentParser:
     w.add_argument("--option", action="append", metavar="KEY=VALUE", help="fixed solver setting (repeatable)")
     w.add_argument("--t-end", type=float, dest="t_end")
     w.add_argument("--cfl", type=float)
-    w.add_argument("--seed", type=int, help="random seed of the stochastic methods")
-    w.add_argument("--scheduler", help="Dask scheduler address (default: a LocalCluster)")
-    w.add_argument("--workers", type=int, help="LocalCluster worker processes (default: one per core)")
-    w.add_argument("-o", "--output", default="runs", help="folder of the runs' files")
-    w.add_argument("--quiet", action="store_true")
+    _runs_on_dask(w, "runs", "folder of the runs' files")
     w.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("study", help="the blast-array study: wall loads of rod arrays per method, ranked")
+    s.add_argument("--methods", "-m", required=True, help="comma-separated, e.g. fv,sph,dsmc")
+    s.add_argument("--parts", default="moderate",
+                   help="comma-separated parts of the study: moderate (11 configurations), variants (standoff, "
+                        "layers, trap gap), strong (default: moderate)")
+    s.add_argument("--dx", action="append", metavar="METHOD=DX",
+                   help="spacing of one method's runs [m] (repeatable; default: the scenes')")
+    s.add_argument("--option", action="append", metavar="KEY=VALUE",
+                   help="solver setting for the methods that take it (repeatable)")
+    _runs_on_dask(s, "study", "folder of the runs and the report")
+    s.set_defaults(func=cmd_study)
 
     c = sub.add_parser("compare", help="error table of runs of one scene")
     c.add_argument("runs", nargs="+")

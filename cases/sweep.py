@@ -104,25 +104,37 @@ def sweep(case: str, methods, dx=(None,), values: dict | None = None, output: st
           settings: dict | None = None, scheduler: str | None = None, workers: int | None = None,
           progress: bool = True) -> list[dict]:
     """Run every run of :func:`plan` that ``output`` does not hold finished
-    yet, on the Dask scheduler at ``scheduler`` or on a LocalCluster of
-    ``workers`` single-threaded processes (default: one per core), each
-    writing ``output/<name>.nc``. ``settings`` go to every run of a method
-    that takes them (``t_end``, ``cfl``; ``seed`` to dsmc, ...). Returns one record per run: ``name``, ``path``,
+    yet (:func:`execute`). ``settings`` go to every run of a method that
+    takes them (``t_end``, ``cfl``; ``seed`` to dsmc, ...). Returns one record per run: ``name``, ``path``,
     ``status`` (``"ran"``, ``"done before"`` or ``"failed"``), ``seconds``
     and ``message``."""
+    return execute(plan(case, methods, dx, values), output, settings, scheduler, workers, progress,
+                   f"sweep {case}")
+
+
+def execute(runs: list[SweepRun], output: str | Path = "runs", settings: dict | None = None,
+            scheduler: str | None = None, workers: int | None = None, progress: bool = True,
+            description: str = "runs") -> list[dict]:
+    """Run every one of ``runs`` that ``output`` does not hold finished yet,
+    on the Dask scheduler at ``scheduler`` or on a LocalCluster of
+    ``workers`` single-threaded processes (default: one per core), each
+    writing ``output/<name>.nc``; ``settings`` go to every run of a method
+    that takes them. A bad scene parameter or setting is refused before
+    anything runs. Returns the records of :func:`sweep`, in the order of
+    ``runs``."""
     from tqdm.auto import tqdm
 
     from cases.registry import defaults
 
-    runs = plan(case, methods, dx, values)
-    scene_keys = set(defaults(case))
     settings = dict(settings or {})
+    methods = sorted({run.method for run in runs})
     takes = {m: solver_settings(m) for m in methods}
     for key in settings:
         if not any(key in keys for keys in takes.values()):
             raise InputError(f"{key!r} is not a setting of {', '.join(methods)}.")
+    scene_keys = {run.case: set(defaults(run.case)) for run in runs}
     for run in runs:  # a bad scene parameter is refused before anything runs
-        _scene(run, scene_keys)
+        _scene(run, scene_keys[run.case])
     output = Path(output)
     output.mkdir(parents=True, exist_ok=True)
     records, todo = [], []
@@ -139,8 +151,8 @@ def sweep(case: str, methods, dx=(None,), values: dict | None = None, output: st
         n_workers = local_workers(len(todo), workers)
         threads = None if scheduler else threads_per_run(n_workers)
         with dask_client(scheduler, n_workers) as client, \
-                tqdm(total=len(todo), disable=None if progress else True, desc=f"sweep {case}", unit="run") as bar:
-            futures = [client.submit(_run_and_write, run, str(path), sorted(scene_keys),
+                tqdm(total=len(todo), disable=None if progress else True, desc=description, unit="run") as bar:
+            futures = [client.submit(_run_and_write, run, str(path), sorted(scene_keys[run.case]),
                                      {k: v for k, v in settings.items() if k in takes[run.method]},
                                      threads, pure=False) for run, path in todo]
             for future in as_completed(futures):

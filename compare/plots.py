@@ -63,11 +63,12 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
 
 
 def series(runs, var: str, path, probe: str | None = None, names=None, scale: float = 1.0, unit: str | None = None,
-           reference: xr.Dataset | None = None) -> Path:
+           reference: xr.Dataset | None = None, title: str | None = None) -> Path:
     """Time series ``var`` (``p_probe`` or ``eta_probe`` at ``probe``,
     ``wall_force``, ``wall_impulse``) of every run, overlaid, with the
     reference's as a black line where it has that series; ``scale``
-    multiplies the time axis (e.g. 1e3 for ms, named by ``unit``)."""
+    multiplies the time axis (e.g. 1e3 for ms, named by ``unit``);
+    ``title`` replaces the scene's name in the title."""
     names = names or [None] * len(runs)
     fig, ax = plt.subplots(figsize=(7, 4.2))
     if reference is not None and var in reference:
@@ -80,7 +81,8 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     ax.set_xlabel(f"time [{unit or 's'}]")
     ax.set_ylabel(_axis_label(first))
     where = f" {probe!r}" if probe is not None else ""
-    ax.set_title(f"{runs[0].attrs['case']}: {first.attrs.get('long_name', var)}{where}", fontsize=10)
+    what = first.attrs.get("long_name", var).split(",")[0]
+    ax.set_title(f"{title or runs[0].attrs['case']}: {what}{where}", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return _save(fig, path)
@@ -188,13 +190,24 @@ def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, name
     return _save(fig, path, tight=False)
 
 
-def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0) -> Path:
+def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0, columns: int | None = None) -> Path:
     """Numerical schlieren (:func:`compare.metrics.schlieren`) of every run's
-    density at ``time`` (default: the last output time), side by side."""
+    density at ``time`` (default: the last output time), in ``columns``
+    columns (default: side by side in one row), each panel sized to the
+    domain's aspect ratio."""
     names = names or [None] * len(runs)
     t = float(runs[0].time[-1]) if time is None else time
-    fig, axes = plt.subplots(1, len(runs), figsize=(3.2 * len(runs) + 0.4, 3.5), squeeze=False, layout="constrained")
-    for ax, ds, name in zip(axes[0], runs, names):
+    columns = columns or len(runs)
+    rows = -(-len(runs) // columns)
+    x, y = runs[0].x.values, runs[0].y.values
+    width = 3.2 if columns > 1 else 9.0  # (a lone column: a wide channel across the page)
+    aspect = float(np.ptp(y) / np.ptp(x)) if x.size > 1 and y.size > 1 else 1.0
+    height = min(max(width * aspect, 1.0), 3.2)
+    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 0.6, (height + 0.5) * rows + 0.4),
+                             squeeze=False, layout="constrained")
+    for ax in axes.flat[len(runs):]:
+        ax.axis("off")
+    for ax, ds, name in zip(axes.flat, runs, names):
         shade = schlieren(ds["rho"].sel(time=t, method="nearest"), k=k)
         ax.pcolormesh(shade.x, shade.y, shade, vmin=0.0, vmax=1.0, shading="nearest", cmap="gray")
         ax.set_title(_label(ds, name), fontsize=8)

@@ -67,9 +67,7 @@ def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: li
     check_same_scene(runs, names)
     rows = []
     for ds, name in zip(runs, names):
-        row = {"run": name, "method": ds.attrs["method"], "scheme": ds.attrs["scheme"]}
-        row.update({k: ds.attrs[k] for k in COST_ATTRS})
-        row["status"] = ds.attrs.get("status", "ok")
+        row = _cost_row(ds, name)
         if reference is not None:
             common = np.intersect1d(np.round(ds.time.values, 12), np.round(reference.time.values, 12))
             if common.size:
@@ -87,6 +85,43 @@ def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: li
         rows.append({"run": "reference", "method": reference.attrs.get("method", "reference"),
                      **measured(reference)})
     return pd.DataFrame(rows)
+
+
+def _cost_row(ds: xr.Dataset, name: str) -> dict:
+    """The start of a run's table row: its name, method, scheme, cost and status."""
+    row = {"run": name, "method": ds.attrs["method"], "scheme": ds.attrs["scheme"]}
+    row.update({k: ds.attrs[k] for k in COST_ATTRS})
+    row["status"] = ds.attrs.get("status", "ok")
+    return row
+
+
+def wall_load_table(runs: list[xr.Dataset], labels: list[str]) -> pd.DataFrame:
+    """One row per run of a blast study (runs of different scenes, e.g. a
+    channel with and without obstacles): its configuration ``label``,
+    method, cost, the final time and the wall-load quantities the scene
+    measured (peak wall pressure and force, raw and fitted, arrival time,
+    wall impulse at the final time)."""
+    rows = []
+    for ds, label in zip(runs, labels):
+        row = {"configuration": label, **_cost_row(ds, label), "t_end": float(ds.time[-1])}
+        row.update({k: v for k, v in measured(ds).items() if k.startswith("wall_")})
+        rows.append(row)
+    return pd.DataFrame(rows).drop(columns="run")
+
+
+def ranking(df: pd.DataFrame, quantity: str, item: str = "configuration") -> pd.DataFrame:
+    """Rank of every ``item`` by ``quantity`` per method (1: the smallest
+    value; ties share the lowest rank), items as rows and methods as
+    columns; an item a method did not run is NaN."""
+    values = df.pivot_table(index=item, columns="method", values=quantity, aggfunc="first", sort=False)
+    return values.rank(method="min")
+
+
+def rank_correlation(ranks: pd.DataFrame) -> pd.DataFrame:
+    """Spearman's rank correlation between the columns (methods) of a
+    :func:`ranking`, each pair over the items both ranked (at least three):
+    ρ = 1 − 6 Σ d²/(n(n² − 1)) without ties, the correlation of the ranks in general."""
+    return ranks.corr(method="spearman", min_periods=3)
 
 
 def grid_convergence(df: pd.DataFrame, quantities) -> pd.DataFrame:
@@ -142,15 +177,15 @@ def pareto_front(seconds, errors) -> np.ndarray:
     return front
 
 
-def write_table(df: pd.DataFrame, folder: str | Path) -> Path:
-    """Write ``summary.csv``, ``summary.json`` and ``summary.nc`` (the table
+def write_table(df: pd.DataFrame, folder: str | Path, stem: str = "summary") -> Path:
+    """Write ``<stem>.csv``, ``<stem>.json`` and ``<stem>.nc`` (the table
     as a Dataset on the dimension ``run``) into ``folder``."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    df.to_csv(folder / "summary.csv", index=False)
-    (folder / "summary.json").write_text(json.dumps(df.to_dict(orient="records"), indent=2, default=float))
+    df.to_csv(folder / f"{stem}.csv", index=False)
+    (folder / f"{stem}.json").write_text(json.dumps(df.to_dict(orient="records"), indent=2, default=float))
     table_ds = xr.Dataset({c: ("run", df[c].to_numpy(dtype=str if df[c].dtype == object else None)) for c in df})
-    table_ds.to_netcdf(folder / "summary.nc")
+    table_ds.to_netcdf(folder / f"{stem}.nc")
     return folder
 
 

@@ -195,6 +195,15 @@ def test_unstable_sph_run_stops_with_its_partial_result():
     assert np.all(np.isfinite(partial.rho.isel(time=-1))) and float(partial.rho.isel(time=-1).min()) > 0.0
 
 
+def test_sph_support_wider_than_half_a_period_stops_in_one_sentence():
+    # one row pitch (0.04 m) at 4 mm: supports of 16 mm that must grow beyond the 20 mm minimum images allow
+    scene = cases.get("blast_array", one_period=True)
+    with pytest.raises(SolverFailed) as info:
+        cases.run(scene, "sph", dx=4e-3, t_end=1e-4, progress=False)
+    message = one_sentence(info.value)
+    assert "reached half the periodic width (0.02 m)" in message and "one_period=false" in message
+
+
 def test_wedge_beyond_detachment():
     # theta_max = 36.87 deg at M1 = 3.5 (gamma = 1.4)
     with pytest.raises(InputError) as info:

@@ -367,3 +367,51 @@ def test_bad_input_names_the_parameter():
         wall_state(wall, fluid[0], fluid[1], -fluid[2], *fluid[3:], KIND)
     with pytest.raises(InputError, match="x must"):
         reflect_into_fluid(BUMP, np.zeros((3, 3)), np.zeros((3, 3)))
+
+
+def test_a_rod_cut_by_a_periodic_side_acts_as_one_body():
+    """A circle cut by the periodic sides y = 0 and y = W (both halves
+    listed) gives the wall and virtual state of the same circle whole in
+    the middle of the box, half a period away, for a field periodic in y:
+    the fluid across the seam reaches the wall particles through its
+    images, and virtual particles near the seam anchor across it."""
+    box = ((0.0, 1.0), (0.0, 0.5))
+    width = box[1][1]
+
+    def state_of(obstacles, shift, periodic=(False, True)):
+        """The states for the fluid field translated by ``shift`` in y."""
+        scene = SimpleNamespace(obstacles=obstacles, domain=box, periodic=periodic)
+        x = lattice(box, DX)
+        x = off_surface(obstacles, x[union_phi(obstacles, x) > 0], 0.5 * DX)
+        k, y = 2 * np.pi / width, x[:, 1] - shift
+        rho = 1.0 + 0.1 * np.sin(k * y) + 0.2 * x[:, 0]
+        p = 1.0 + 0.3 * np.cos(k * y) - 0.1 * x[:, 0]
+        v = np.stack([np.cos(k * y), 0.3 * x[:, 0] * np.sin(k * y)], axis=1)
+        wall = walls(scene, DX, H0)
+        value, _ = wall_state(wall, x, v, rho, p, rho * DX * DX, np.full(len(x), H0), KIND)
+        return wall, value, virtual_state(wall, x, v, rho, p, rho * DX * DX, np.full(len(x), H0), KIND, ETA, 1.4)
+
+    cut = (Circle(0.5, 0.0, 0.1), Circle(0.5, width, 0.1))
+    whole = (Circle(0.5, 0.5 * width, 0.1),)
+    wall_c, value_c, virtual_c = state_of(cut, 0.0)
+    wall_w, value_w, virtual_w = state_of(whole, 0.5 * width)
+
+    def matched(points_c, points_w):
+        """Index into points_w of each point of points_c moved by half a period."""
+        moved = points_c.copy()
+        moved[:, 1] = np.mod(moved[:, 1] + 0.5 * width, width)
+        d = np.linalg.norm(moved[:, None, :] - points_w[None, :, :], axis=2)
+        assert np.all(d.min(axis=1) < 1e-9)
+        return d.argmin(axis=1)
+
+    k = matched(wall_c.x_wall, wall_w.x_wall)
+    assert len(set(k)) == len(wall_w.x_wall)  # every wall particle of the whole rod has its twin
+    assert np.allclose(value_c, value_w[k], rtol=1e-9, atol=1e-12)
+    k = matched(virtual_c[0], virtual_w[0])
+    assert len(set(k)) == len(virtual_w[0]) == len(virtual_c[0])
+    for a, b in zip(virtual_c[1:], virtual_w[1:]):
+        assert np.allclose(a, b[k], rtol=1e-9, atol=1e-12)
+    # without the periodic images the seam's wall particles see only one side of the fluid
+    _, one_sided, _ = state_of(cut, 0.0, periodic=(False, False))
+    k = matched(wall_c.x_wall, wall_w.x_wall)
+    assert np.abs(one_sided - value_w[k]).max() > 1e-3

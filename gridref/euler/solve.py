@@ -23,6 +23,10 @@ from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from gridref.march import march
 
 
+#: how often a failed step is redone with half the time step before the run stops
+HALVINGS = 4
+
+
 def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
 
@@ -99,13 +103,22 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     bar = run.progress_bar(t, t_end, progress)
 
     def advance(U, t, t_out, dt_cfl):
-        """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
+        """One step. A step that turns the state non-physical even with the
+        positivity fallback is redone with half the time step, up to
+        ``HALVINGS`` times (a small cut cell behind a diffracting shock
+        takes more than its share of a full step), then it is not taken
+        and the bad state is diagnosed."""
         dt = min(dt_cfl, t_out - t)
-        U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-        if not np.isfinite(dt_cfl):
+        for _ in range(HALVINGS + 1):
+            U_new, dt_next, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+            if np.isfinite(dt_next):
+                break
+            run.halved_steps += 1
+            dt *= 0.5
+        else:
             run.failed_step = (U_new, t + dt)
-            return U, t, dt_cfl, probes, forces, 0
-        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
+            return U, t, dt_next, probes, forces, 0
+        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_next, probes, forces, 1
 
     def diagnose(U, t, step, dt):
         U, t = run.failed_step or (U, t)
@@ -117,7 +130,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 def _immersed(scene, grid, dx):
     """The immersed boundary of the scene's obstacles on ``grid`` (or None),
     refusing a grid too coarse to resolve them."""
-    check_obstacles(scene, dx, "fv")
+    check_obstacles(scene, dx)
     if not scene.obstacles:
         return None
     return immersed_boundary(grid, scene.obstacles, scene.periodic)
@@ -139,6 +152,8 @@ class _Run(RunRecord):
         self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
+        #: steps redone with half the time step
+        self.halved_steps = 0
 
     def fields(self, U):
         cell = float(np.prod(self.grid.step))
@@ -161,8 +176,9 @@ class _Run(RunRecord):
                 fields[name][:, solid_out] = np.nan
         walls = ", conservative cut-cell immersed boundary (flux redistribution, small cells merged)"
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
-                  f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order")
-        attrs = {"regrid": how}
+                  f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order, "
+                  "a step still not physical redone with half the time step")
+        attrs = {"regrid": how, "halved_steps": self.halved_steps}
         if _closed(scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)

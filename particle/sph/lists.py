@@ -64,6 +64,8 @@ class VerletLists:
         self.walls, self.open = walls, tuple(open_)
         self.lo, self.hi, self.periodic = np.asarray(lo, float), np.asarray(hi, float), np.asarray(periodic, bool)
         self.box, self.half = periods(self.lo, self.hi, self.periodic, self.lo.size)
+        #: the widest list the periodic axes allow (minimum images)
+        self.half_period = 0.5 * float(np.min((self.hi - self.lo)[self.periodic])) if self.periodic.any() else np.inf
         self.searches, self.seconds, self.last = 0, 0.0, None
 
     def lists(self, x_real, v_real, H_real, n, slack) -> NeighbourLists:
@@ -88,6 +90,8 @@ class VerletLists:
         reach = slack * H_real + moving
         if growth is not None:
             reach[: growth.size] *= growth
+        if self.periodic.any():  # (minimum images: no list reaches beyond half a period)
+            reach = np.minimum(reach, self.half_period)
         gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, float(reach.max()), self.open)
         x = np.concatenate([x_real, gx])
         radius = np.concatenate([reach, reach[src]])

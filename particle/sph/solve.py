@@ -24,7 +24,7 @@ import xarray as xr
 
 from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import check_obstacles, choice, in_range, positive
-from cases.errors import InputError
+from cases.errors import InputError, SolverFailed
 from cases.history import History, RunRecord
 from cases.scene import Inflow
 from compare.io import particle_snapshot, write_particles
@@ -179,9 +179,13 @@ class GasSPH:
             failed = ~converged | (H >= (1.0 - 1e-6) * lists.radius[:n])
             if not failed.any():
                 break
-            lists = None
+            radius, lists = lists.radius, None
         else:
             k = int(np.flatnonzero(failed)[0])
+            if radius[k] >= (1.0 - 1e-6) * self.verlet.half_period:
+                raise FloatingPointError(f"the support H of the particle at x = {x[k].tolist()} m reached half the "
+                                         f"periodic width ({self.verlet.half_period:g} m): run a wider domain "
+                                         "(one_period=false) or a finer dx")
             raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
         real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
                                                     (u, bu), (P.alpha, np.zeros(bx.shape[0])),
@@ -255,7 +259,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
-    check_obstacles(scene, dx, "sph", periodic_cuts=False)
+    check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
@@ -267,7 +271,10 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) the numba kernels, and
     # compile_rest those a run meets later
-    E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
+    try:
+        E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
+    except FloatingPointError as err:
+        raise SolverFailed(f"sph failed on the initial state: {err}.") from None
     P.alpha = cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
     P.alpha_u = conduction_switch(P.alpha_u, E.lap_u, P.u, E.vsig, E.H, 1.0, alpha_u, 0.0)
     sph.compile_rest(P, E)

@@ -132,6 +132,11 @@ class Wall:
         ``d = x_virtual − x_wall[anchor]``.
     volume : (n_v,)
         Virtual-particle volume ``V_v = s_x s_y``.
+    lo, period : (2,)
+        The box's lower corner and its period along each axis (0 where the
+        axis is not periodic): fluid particles near a periodic side reach
+        the wall particles across it through their periodic images, so the
+        two parts of an obstacle cut by the side act as one body.
     """
 
     x_wall: np.ndarray
@@ -140,6 +145,8 @@ class Wall:
     anchor: np.ndarray
     offset: np.ndarray
     volume: np.ndarray
+    lo: np.ndarray
+    period: np.ndarray
 
 
 # --------------------------------------------------------------------------
@@ -158,6 +165,11 @@ def walls(scene, dx, depth, box=None) -> Wall | None:
     exactly as passed to :func:`particle.sph.particles.place_2d` (default
     ``scene.domain``); the virtual particles are points of the same lattice.
     The nearest-wall search is one k-d tree query (O(n log n), setup only).
+    Along the scene's periodic axes (``scene.periodic``, if it has them)
+    an obstacle cut by a side joins its other part across it: a virtual
+    particle may be anchored to a wall particle across the side (its
+    offset to the nearest image), and the wall state sees the fluid
+    across it (:attr:`Wall.period`).
     """
     obstacles = tuple(scene.obstacles)
     if not obstacles:
@@ -167,16 +179,36 @@ def walls(scene, dx, depth, box=None) -> Wall | None:
     box = _as_box(scene.domain if box is None else box)
     if any(not isinstance(s, Shape) for s in obstacles):
         raise InputError("scene.obstacles must hold cases.shapes.Shape objects.")
+    periodic = getattr(scene, "periodic", (False, False))
+    period = np.array([hi - lo if wraps else 0.0 for (lo, hi), wraps in zip(box, periodic)])
     x_wall, normal_wall = wall_particles(obstacles, dx, box)
     x_virtual, volume = virtual_lattice(obstacles, dx, depth, box)
     if len(x_wall) == 0:
         x_virtual, volume = x_virtual[:0], volume[:0]
-    anchor = nearest_wall(x_wall, x_virtual)
-    offset = x_virtual - x_wall[anchor]
-    arrays = (x_wall, normal_wall, x_virtual, anchor, offset, volume)
+    images, source = periodic_images(x_wall, box[:, 0], period, depth + dx)
+    nearest = nearest_wall(images, x_virtual)
+    anchor = source[nearest]
+    offset = x_virtual - images[nearest]
+    arrays = (x_wall, normal_wall, x_virtual, anchor, offset, volume, box[:, 0].copy(), period)
     for a in arrays:
         a.setflags(write=False)
     return Wall(*arrays)
+
+
+def periodic_images(x, lo, period, reach) -> tuple[np.ndarray, np.ndarray]:
+    """The points ``x`` (n, 2) followed by their images across every
+    periodic side they are within ``reach`` of (``period`` > 0 along that
+    axis, the box starting at ``lo``; corners get the image across both
+    sides), and each point's source index."""
+    source = np.arange(len(x))
+    for axis in np.flatnonzero(period > 0.0):
+        near_lo = x[:, axis] < lo[axis] + reach
+        near_hi = x[:, axis] > lo[axis] + period[axis] - reach
+        shift = np.zeros(2)
+        shift[axis] = period[axis]
+        x = np.concatenate([x, x[near_lo] + shift, x[near_hi] - shift])
+        source = np.concatenate([source, source[near_lo], source[near_hi]])
+    return x, source
 
 
 def _as_box(box) -> np.ndarray:
@@ -486,6 +518,9 @@ def wall_state(wall, x, v, rho, p, m, H, kind, skew=SKEW) -> tuple[np.ndarray, n
     if not (math.isfinite(skew) and skew >= 0):
         raise InputError(f"skew must be a finite number >= 0; got {skew!r}.")
     x, fields, V, H = _fluid_arrays(x, v, rho, p, m, H)
+    if np.any(wall.period > 0.0):  # the fluid across a periodic side, as its images
+        x, source = periodic_images(x, wall.lo, wall.period, float(H.max()))
+        fields, V, H = fields[source], V[source], H[source]
     offsets, index, dx = points_within_support(wall.x_wall, x, H)
     value, grad, reached = _wall_fields(kind, wall.normal_wall, offsets, index, dx, fields, V, H, skew)
     lost = np.flatnonzero(~reached)

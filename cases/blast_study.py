@@ -1,0 +1,177 @@
+"""The blast-array study of Prasanna Kumar, Patnaik & Ramamurthi (Phys.
+Fluids 30, 046105, 2018; SPEC §4.2): which rigid rod array best shields a
+wall from a blast, answered per method.
+
+A study is a list of :class:`Configuration` (the no-obstacle channel and
+rod arrays), run with every method as independent runs on Dask
+(:func:`cases.sweep.execute`: one netCDF file per run, finished runs
+skipped, so a stopped study is finished by running it again), then
+tabulated (:func:`compare.report.wall_load_table`), ranked by wall impulse
+per method with the rank correlation between methods, and drawn.
+
+The arrays are computed on one row pitch across y and tiled onto the
+3-row channel (``one_period``, tested equal to the full-width run); the
+channel without obstacles is one-dimensional, so it runs as the 1D
+``blast_wall`` with the channel's height (its wall force per metre depth
+is ``(p_wall − p0) × 0.12 m``, comparable with the arrays').
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from cases.blast import ARRANGEMENTS, ROW_PITCH
+from cases.errors import InputError
+from cases.shapes import SHAPES
+from cases.sweep import SweepRun, execute
+
+#: the study's parts: the 11 moderate-blast configurations of the seed study's
+#: first table; standoff, layers and trap-gap variants of two shapes; the strong blast
+PARTS = ("moderate", "variants", "strong")
+#: the shapes the variants are run for (the seed study's best performers)
+VARIANT_SHAPES = ("square", "triangle_right")
+#: the trap: two sets of three layers 0.08 m apart, 0.17 m from the wall
+TRAP = {"layers": 6, "trap_gap": 0.08, "standoff": 0.17}
+#: the time of the snapshots (seed study, Fig. 6)
+SNAPSHOT_TIME = 1.7e-3
+ROWS = 3
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """One configuration of the study: a ``label`` for tables and figures
+    and the scene (``case`` with ``parameters``) it runs."""
+
+    label: str
+    case: str
+    parameters: tuple = ()
+
+    def run(self, method: str, dx: float | None = None) -> SweepRun:
+        """The run of this configuration with ``method`` at ``dx`` (default: the scene's)."""
+        return SweepRun(self.case, method, dx, self.parameters)
+
+
+def _open_channel(blast: str) -> Configuration:
+    return Configuration(f"no obstacle ({blast})", "blast_wall",
+                         (("blast", blast), ("dim", 1), ("height", ROWS * ROW_PITCH)))
+
+
+def _array(label: str, blast: str = "moderate", **parameters) -> Configuration:
+    values = {"blast": blast, "rows": ROWS, "one_period": True, **parameters}
+    return Configuration(label, "blast_array", tuple(values.items()))
+
+
+def configurations(parts=("moderate",)) -> list[Configuration]:
+    """The configurations of the study's ``parts`` (:data:`PARTS`):
+
+    * ``moderate``: no obstacle, and 3 layers of each shape inline and
+      staggered at standoff 0.34 m (11 configurations);
+    * ``variants``: for the square and the right-facing triangle (inline),
+      standoff 0.17 and 0.51 m, 5 and 7 layers, and the trap
+      (:data:`TRAP`) with its control (the same six layers, no gap);
+    * ``strong``: the strong blast on no obstacle and on the trap of both
+      variant shapes.
+    """
+    unknown = [p for p in parts if p not in PARTS]
+    if unknown or not parts:
+        raise InputError(f"study part {unknown[0] if unknown else '(none)'!r} is not one of {', '.join(PARTS)}.")
+    found = []
+    if "moderate" in parts:
+        found.append(_open_channel("moderate"))
+        found += [_array(f"{shape} {arrangement}", shape=shape, arrangement=arrangement)
+                  for shape in SHAPES for arrangement in ARRANGEMENTS]
+    if "variants" in parts:
+        for shape in VARIANT_SHAPES:
+            found += [_array(f"{shape} standoff {s:g}", shape=shape, standoff=s) for s in (0.17, 0.51)]
+            found += [_array(f"{shape} {n} layers", shape=shape, layers=n) for n in (5, 7)]
+            found.append(_array(f"{shape} 6 layers standoff 0.17", shape=shape, layers=6, standoff=0.17))
+            found.append(_array(f"{shape} trap", shape=shape, **TRAP))
+    if "strong" in parts:
+        found.append(_open_channel("strong"))
+        found += [_array(f"{shape} trap (strong)", blast="strong", shape=shape, **TRAP) for shape in VARIANT_SHAPES]
+    return found
+
+
+def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: dict | None = None,
+              settings: dict | None = None, scheduler: str | None = None, workers: int | None = None,
+              progress: bool = True, configs: list[Configuration] | None = None) -> pd.DataFrame:
+    """Run every configuration of ``parts`` (or the given ``configs``) with every one of ``methods``
+    (``dx``: method -> spacing, default each scene's) into
+    ``output/runs/`` on Dask (:func:`cases.sweep.execute`; ``settings`` go
+    to the methods that take them), then write the report of
+    :func:`report_study` into ``output``; returns its table."""
+    dx = dict(dx or {})
+    configs = configurations(parts) if configs is None else list(configs)
+    runs = [c.run(method, dx.get(method)) for method in methods for c in configs]
+    records = execute(runs, Path(output) / "runs", settings, scheduler, workers, progress, "blast-array study")
+    failed = [r for r in records if r["status"] == "failed"]
+    for r in failed:
+        print(f"failed: {r['name']}: {r['message']}")
+    return report_study(configs, methods, Path(output), dx, {r["name"]: r["seconds"] for r in records})
+
+
+def report_study(configs, methods, output: Path, dx: dict | None = None, seconds: dict | None = None) -> pd.DataFrame:
+    """The study's report from the finished runs in ``output/runs/``:
+
+    * ``wall_loads.csv``/``.json``/``.nc``: one row per configuration and
+      method (:func:`compare.report.wall_load_table`);
+    * ``ranking.csv``: configurations ranked by wall impulse per method
+      (1: the lowest impulse), ``rank_correlation.csv``: Spearman's ρ
+      between the methods' rankings;
+    * figures: wall force and impulse of every configuration with its
+      methods overlaid (``force_<label>.png``), of every method with its
+      configurations overlaid (``force_<method>.png``), and schlieren
+      snapshots at 1.7 ms per method (``schlieren_<method>.png``).
+
+    Runs not finished are left out of the tables (listed as missing).
+    ``seconds`` (run name -> seconds) adds the wall time the runs took
+    here to the table's ``wall_seconds`` (solver time) as ``run_seconds``."""
+    from compare import plots
+    from compare.io import read
+    from compare.report import rank_correlation, ranking, wall_load_table, write_table
+    from cases.sweep import finished
+
+    dx = dict(dx or {})
+    runs, labels, names, missing = [], [], [], []
+    for method in methods:
+        for c in configs:
+            name = c.run(method, dx.get(method)).name
+            path = output / "runs" / f"{name}.nc"
+            if finished(path):
+                runs.append(read(path))
+                labels.append(c.label)
+                names.append(name)
+            else:
+                missing.append(name)
+    if not runs:
+        raise InputError(f"no finished runs of the study in {str(output / 'runs')!r}.")
+    table = wall_load_table(runs, labels)
+    if seconds:
+        table["run_seconds"] = [seconds.get(n, float("nan")) for n in names]
+    write_table(table, output, "wall_loads")
+    impulse = "wall_impulse_final"
+    ranks = ranking(table, impulse)
+    ranks.to_csv(output / "ranking.csv")
+    rank_correlation(ranks).to_csv(output / "rank_correlation.csv")
+    figures = output / "figures"
+    for label in dict.fromkeys(labels):
+        group = [(ds, ds.attrs["method"]) for ds, lab in zip(runs, labels) if lab == label]
+        stem = label.replace(" ", "_").replace("(", "").replace(")", "")
+        for var in ("wall_force", "wall_impulse"):
+            plots.series([g[0] for g in group], var, figures / f"{var}_{stem}.png", names=[g[1] for g in group],
+                         scale=1e3, unit="ms", title=label)
+    for method in dict.fromkeys(ds.attrs["method"] for ds in runs):
+        group = [(ds, lab) for ds, lab in zip(runs, labels) if ds.attrs["method"] == method]
+        for var in ("wall_force", "wall_impulse"):
+            plots.series([g[0] for g in group], var, figures / f"{var}_{method}.png", names=[g[1] for g in group],
+                         scale=1e3, unit="ms", title=f"{method}: every configuration")
+        maps = [(ds, lab) for ds, lab in group if "y" in ds.dims and SNAPSHOT_TIME <= float(ds.time[-1])]
+        if maps:
+            plots.schlieren_maps([m[0] for m in maps], figures / f"schlieren_{method}.png",
+                                 names=[f"{method}: {m[1]}" for m in maps], time=SNAPSHOT_TIME, columns=1)
+    if missing:
+        print(f"{len(missing)} runs not finished: {', '.join(missing)}")
+    return table
