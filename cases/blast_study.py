@@ -25,6 +25,7 @@ import pandas as pd
 
 from cases.blast import ARRANGEMENTS, ROW_PITCH
 from cases.errors import InputError
+from cases.registry import get
 from cases.shapes import SHAPES
 from cases.sweep import SweepRun, execute
 
@@ -50,8 +51,14 @@ class Configuration:
     parameters: tuple = ()
 
     def run(self, method: str, dx: float | None = None) -> SweepRun:
-        """The run of this configuration with ``method`` at ``dx`` (default: the scene's)."""
-        return SweepRun(self.case, method, dx, self.parameters)
+        """The run of this configuration with ``method`` at ``dx`` (default:
+        the scene's, named in the run either way, so a ladder through the
+        default spacing finds the study's run finished)."""
+        return SweepRun(self.case, method, self.scene().dx if dx is None else float(dx), self.parameters)
+
+    def scene(self):
+        """The scene this configuration runs."""
+        return get(self.case, **dict(self.parameters))
 
 
 def _open_channel(blast: str) -> Configuration:
@@ -93,6 +100,14 @@ def configurations(parts=("moderate",)) -> list[Configuration]:
         found.append(_open_channel("strong"))
         found += [_array(f"{shape} trap (strong)", blast="strong", shape=shape, **TRAP) for shape in VARIANT_SHAPES]
     return found
+
+
+def configuration(label: str) -> Configuration:
+    """The configuration of any part of the study called ``label``."""
+    every = {c.label: c for c in configurations(PARTS)}
+    if label not in every:
+        raise InputError(f"no configuration of the study is called {label!r}; they are: {', '.join(every)}.")
+    return every[label]
 
 
 def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: dict | None = None,
@@ -175,3 +190,46 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     if missing:
         print(f"{len(missing)} runs not finished: {', '.join(missing)}")
     return table
+
+
+def run_sensitivity(ladders: dict, output: str | Path = "study", label: str = "circle inline",
+                    settings: dict | None = None, scheduler: str | None = None, workers: int | None = None,
+                    progress: bool = True) -> pd.DataFrame:
+    """The resolution study of one configuration (the seed study's Table
+    II): ``ladders`` maps each method to its spacings (three or more for a
+    Grid Convergence Index), run into ``output/runs/`` on Dask, and
+    written to ``output/sensitivity/``: the table of every run
+    (``ladder.csv``/``.json``/``.nc``), the Richardson value and GCI of
+    every wall-load quantity per method from its three finest levels
+    (``convergence.csv``, Celik et al. 2008), and the speed-versus-error
+    figures against the finest fv run (relative error of the wall impulse
+    and of the fitted peak wall force against wall time, Pareto front
+    marked). Returns the table."""
+    from compare import plots
+    from compare.io import read
+    from compare.report import grid_convergence, table, write_table
+
+    config = configuration(label)
+    runs = [config.run(method, dx) for method, spacings in ladders.items() for dx in spacings]
+    records = execute(runs, Path(output) / "runs", settings, scheduler, workers, progress, f"ladder of {label}")
+    done = [r for r in records if r["status"] != "failed"]
+    for r in records:
+        if r["status"] == "failed":
+            print(f"failed: {r['name']}: {r['message']}")
+    if not done:
+        raise InputError(f"no run of the ladder of {label!r} finished.")
+    results = [read(r["path"]) for r in done]
+    df = table(results, None, [r["name"] for r in done])
+    quantities = [q for q in results[0].attrs.get("measured_quantities", "").split() if q in df]
+    folder = Path(output) / "sensitivity"
+    fv = df[df["method"] == "fv"]
+    if not fv.empty:
+        finest = fv.loc[fv["dx"].idxmin()]
+        for q in ("wall_impulse_final", "wall_force_peak_fitted"):
+            df[f"{q}_error"] = (df[q] - finest[q]).abs() / abs(finest[q])
+            title = f"{label}: {q.replace('_', ' ')} against the finest fv run (dx = {finest['dx']:g} m)"
+            plots.speed_versus_error(df, f"{q}_error", folder / f"speed_versus_error_{q}.png", title,
+                                     ylabel=f"relative error of {q.replace('_', ' ')}")
+    write_table(df, folder, "ladder")
+    grid_convergence(df, quantities).to_csv(folder / "convergence.csv", index=False)
+    return df

@@ -96,19 +96,39 @@ def cmd_sweep(args) -> int:
     return 3 if counts["failed"] else 0
 
 
-def cmd_study(args) -> int:
-    from cases.blast_study import run_study
+def _per_method(pairs, what: str, methods=None) -> dict:
+    """``METHOD=V1[,V2...]`` strings as method -> list of floats."""
+    out = {}
+    for pair in pairs or []:
+        method, sep, values = pair.partition("=")
+        try:
+            numbers = [float(v) for v in values.split(",")]
+        except ValueError:
+            numbers = None
+        if not sep or not numbers or (methods is not None and method not in methods):
+            raise InputError(f"{what} expects METHOD=DX[,DX...]{' for one of ' + ', '.join(methods) if methods else ''}, "
+                             f"got {pair!r}.")
+        out[method] = numbers
+    return out
 
-    methods = [m.strip() for m in args.methods.split(",")]
-    dx = {}
-    for pair in args.dx or []:
-        method, sep, value = pair.partition("=")
-        if not sep or method not in methods:
-            raise InputError(f"--dx expects METHOD=DX for one of {', '.join(methods)}, got {pair!r}.")
-        dx[method] = float(value)
+
+def cmd_study(args) -> int:
+    from cases.blast_study import run_sensitivity, run_study
+
     settings = _settings(args.option)
-    table = run_study(methods, [p.strip() for p in args.parts.split(",")], Path(args.output), dx, settings,
-                      scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    options = dict(scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    if args.ladder:
+        table = run_sensitivity(_per_method(args.ladder, "--ladder"), Path(args.output), args.configuration,
+                                settings, **options)
+        print(table[[c for c in ("run", "method", "dx", "wall_seconds", "wall_force_peak_fitted",
+                                 "wall_impulse_final") if c in table]].to_string(index=False))
+        print(f"resolution study written to {Path(args.output) / 'sensitivity'}")
+        return 0
+    if not args.methods:
+        raise InputError("partmesh study needs --methods (the study) or --ladder (a resolution study).")
+    methods = [m.strip() for m in args.methods.split(",")]
+    dx = {m: v[0] for m, v in _per_method(args.dx, "--dx", methods).items()}
+    table = run_study(methods, [p.strip() for p in args.parts.split(",")], Path(args.output), dx, settings, **options)
     columns = [c for c in ("configuration", "method", "wall_peak_pressure_fitted", "wall_arrival_time",
                            "wall_force_peak_fitted", "wall_impulse_final", "wall_seconds") if c in table]
     print(table[columns].to_string(index=False))
@@ -192,7 +212,7 @@ def parser() -> argparse.ArgumentParser:
     w.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("study", help="the blast-array study: wall loads of rod arrays per method, ranked")
-    s.add_argument("--methods", "-m", required=True, help="comma-separated, e.g. fv,sph,dsmc")
+    s.add_argument("--methods", "-m", help="comma-separated, e.g. fv,sph,dsmc")
     s.add_argument("--parts", default="moderate",
                    help="comma-separated parts of the study: moderate (11 configurations), variants (standoff, "
                         "layers, trap gap), strong (default: moderate)")
@@ -200,6 +220,10 @@ def parser() -> argparse.ArgumentParser:
                    help="spacing of one method's runs [m] (repeatable; default: the scenes')")
     s.add_argument("--option", action="append", metavar="KEY=VALUE",
                    help="solver setting for the methods that take it (repeatable)")
+    s.add_argument("--ladder", action="append", metavar="METHOD=DX1,DX2,DX3",
+                   help="instead of the study, a resolution study of one configuration: a method's spacings "
+                        "(repeatable), with the GCI and speed against error")
+    s.add_argument("--configuration", default="circle inline", help="the configuration of --ladder")
     _runs_on_dask(s, "study", "folder of the runs and the report")
     s.set_defaults(func=cmd_study)
 

@@ -88,10 +88,11 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     return _save(fig, path)
 
 
-def speed_versus_error(df, error: str, path, title: str) -> Path:
+def speed_versus_error(df, error: str, path, title: str, ylabel: str | None = None) -> Path:
     """``error`` (a column of a :func:`compare.report.table`) against wall
     time, log–log, one line per method through its resolutions, the Pareto
-    front (no run both faster and more accurate) drawn and its runs ringed."""
+    front (no run both faster and more accurate) drawn and its runs ringed;
+    ``ylabel`` names the error (default: from the column, 'L1 error of rho')."""
     fig, ax = plt.subplots(figsize=(7, 4.6))
     rows = df[(df[error] > 0) & np.isfinite(df["wall_seconds"])]  # (a reference run's own error, 0, has no place)
     for method, group in rows.groupby("method", sort=False):
@@ -100,7 +101,7 @@ def speed_versus_error(df, error: str, path, title: str) -> Path:
     front = rows[pareto_front(rows["wall_seconds"], rows[error])].sort_values("wall_seconds")
     ax.step(front["wall_seconds"], front[error], "k--", where="post", lw=0.8, label="Pareto front")
     ax.plot(front["wall_seconds"], front[error], "o", ms=11, mfc="none", mec="k")
-    return _save_log_log(fig, ax, "wall time [s]", error, title, path)
+    return _save_log_log(fig, ax, "wall time [s]", error, title, path, ylabel)
 
 
 def convergence(df, error: str, path, title: str) -> Path:
@@ -229,7 +230,7 @@ def _map_axes(axes) -> None:
         ax.tick_params(labelsize=7)
 
 
-def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
+def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path, ylabel: str | None = None) -> Path:
     """Finish an error plot: log–log axes labelled with plain numbers at 1,
     2 and 5 times the powers of ten, the error column ('rho_L1') named as
     'L1 error of rho', title, legend, grid; save it."""
@@ -237,7 +238,7 @@ def _save_log_log(fig, ax, xlabel: str, error: str, title: str, path) -> Path:
         _plain_log_axis(axis, scale)
     field, _, norm = error.rpartition("_")
     ax.set_xlabel(xlabel)
-    ax.set_ylabel(f"{norm} error of {field}")
+    ax.set_ylabel(ylabel or f"{norm} error of {field}")
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")

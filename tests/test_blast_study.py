@@ -135,5 +135,19 @@ def test_study_command_refuses_a_spacing_for_a_method_it_does_not_run(tmp_path, 
     from cases.cli import main
 
     assert main(["study", "-m", "fv", "--dx", "sph=1e-3", "-o", str(tmp_path)]) == 2
-    assert capsys.readouterr().err.strip() == ("partmesh: --dx expects METHOD=DX for one of fv, got 'sph=1e-3'.")
+    assert capsys.readouterr().err.strip() == "partmesh: --dx expects METHOD=DX[,DX...] for one of fv, got 'sph=1e-3'."
     assert main(["study", "-m", "fv", "--parts", "weak", "-o", str(tmp_path)]) == 2
+
+
+def test_a_resolution_study_gives_the_gci_and_the_error_against_the_finest_fv_run(tmp_path):
+    from cases.blast_study import run_sensitivity
+
+    df = run_sensitivity({"fv": [5e-3, 4e-3, 2e-3]}, tmp_path, workers=2, progress=False)
+    df = df.sort_values("dx", ascending=False)
+    error = df["wall_impulse_final_error"].to_numpy()
+    assert error[-1] == 0.0 and error[0] > error[1] > 0.0  # the finest run is the reference; refining helps
+    convergence = pd.read_csv(tmp_path / "sensitivity" / "convergence.csv").set_index("quantity")
+    row = convergence.loc["wall_impulse_final"]
+    assert row["f1"] == pytest.approx(df["wall_impulse_final"].iloc[-1]) and row["dx1"] == pytest.approx(2e-3)
+    assert row["gci_fine"] > 0.0 and abs(row["f_ext"] - row["f1"]) < abs(row["f1"] - row["f2"])
+    assert (tmp_path / "sensitivity" / "speed_versus_error_wall_impulse_final.png").stat().st_size > 0
