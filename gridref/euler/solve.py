@@ -18,13 +18,9 @@ from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import conservative, primitive
-from gridref.euler.step import Scheme, Stepper
+from gridref.euler.step import PRESSURE_FLOOR, Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from gridref.march import march
-
-
-#: how often a failed step is redone with half the time step before the run stops
-HALVINGS = 4
 
 
 def _primitive_state(scene, rho, u, v, p):
@@ -94,6 +90,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     run = _Run(scene, grid, ib, settings,
                compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
+    run.stepper = stepper
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
@@ -103,22 +100,13 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     bar = run.progress_bar(t, t_end, progress)
 
     def advance(U, t, t_out, dt_cfl):
-        """One step. A step that turns the state non-physical even with the
-        positivity fallback is redone with half the time step, up to
-        ``HALVINGS`` times (a small cut cell behind a diffracting shock
-        takes more than its share of a full step), then it is not taken
-        and the bad state is diagnosed."""
+        """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
         dt = min(dt_cfl, t_out - t)
-        for _ in range(HALVINGS + 1):
-            U_new, dt_next, forces, probes = stepper(U, dt, _inflow_states(scene, t))
-            if np.isfinite(dt_next):
-                break
-            run.halved_steps += 1
-            dt *= 0.5
-        else:
+        U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+        if not np.isfinite(dt_cfl):
             run.failed_step = (U_new, t + dt)
-            return U, t, dt_next, probes, forces, 0
-        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_next, probes, forces, 1
+            return U, t, dt_cfl, probes, forces, 0
+        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
 
     def diagnose(U, t, step, dt):
         U, t = run.failed_step or (U, t)
@@ -152,8 +140,8 @@ class _Run(RunRecord):
         self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
-        #: steps redone with half the time step
-        self.halved_steps = 0
+        #: the stepper, whose pressure floor counts go to the result
+        self.stepper = None
 
     def fields(self, U):
         cell = float(np.prod(self.grid.step))
@@ -177,8 +165,9 @@ class _Run(RunRecord):
         walls = ", conservative cut-cell immersed boundary (flux redistribution, small cells merged)"
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
                   f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order, "
-                  "a step still not physical redone with half the time step")
-        attrs = {"regrid": how, "halved_steps": self.halved_steps}
+                  f"pressure floor {PRESSURE_FLOOR:g} max(p) where a near-vacuum still turns negative")
+        attrs = {"regrid": how, "pressure_floors": self.stepper.floors,
+                 "pressure_floor_energy": self.stepper.floor_energy}
         if _closed(scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
