@@ -614,28 +614,29 @@ def test_negative_initial_pressure_is_refused_as_input():
     assert "\n" not in message and "pressure" in message and re.search(r"x = 0\.5\d* m", message)
 
 
-def test_pressure_floor_raises_only_non_positive_pressures_and_counts_the_energy():
+def test_vacuum_floors_change_only_a_near_vacuum_and_count_what_they_add():
     """The last resort after the positivity fallback: a near-vacuum cell
     whose pressure turned negative gets p_f = 1e-6 max p by internal energy
-    alone; every other cell, its density and momentum are untouched, a
-    cell with negative density is left for the failure report, and the
-    energy added is exactly what the pressure change needs."""
+    alone, one whose density turned negative gets ρ_f = 1e-6 max ρ at rest
+    with p_f; every other cell is untouched bit for bit, and the mass and
+    energy added are exactly the changes."""
     from gridref.euler.state import conservative, primitive
-    from gridref.euler.step import PRESSURE_FLOOR, pressure_floored
+    from gridref.euler.step import FLOOR, vacuum_floored
 
     gamma = 1.4
-    rho = np.array([1.0, 0.09, 0.5, -0.1, 1.0])
-    u = np.array([0.0, -1343.0, 10.0, 0.0, 5.0])
+    rho = np.array([1.0, 0.09, 0.5, 1.0, 2.0])
+    u = np.array([0.0, -1343.0, 10.0, 300.0, 5.0])
     p = np.array([1e5, 3.0, 2e3, 1.0, 5e5])
     U = [np.asarray(a) for a in conservative((rho, u, p), gamma)]
     U[-1][1] -= 20.0 / (gamma - 1.0)  # p = 3 - 20 < 0: kinetic energy 1e4 times the internal
-    floored, cells, added = pressure_floored(tuple(U), gamma)
+    U[0][3] = -1e-4  # a negative density
+    floored, cells, mass, energy = vacuum_floored(tuple(U), gamma)
     W = [np.asarray(a) for a in primitive(floored, gamma)]
-    assert int(cells) == 1
-    assert W[-1][1] == pytest.approx(PRESSURE_FLOOR * 5e5, rel=1e-6)
+    assert int(cells) == 2
+    assert W[-1][1] == pytest.approx(FLOOR * 5e5, rel=1e-6) and W[0][1] == U[0][1] and W[1][1] == pytest.approx(-1343)
+    assert W[0][3] == pytest.approx(FLOOR * 2.0) and W[1][3] == 0.0 and W[-1][3] == pytest.approx(FLOOR * 5e5)
     for k in (0, 2, 4):
-        assert float(floored[-1][k]) == U[-1][k]
-    assert float(floored[-1][3]) == U[-1][3]  # negative density: not floored
-    for a, b in zip(floored[:-1], U[:-1]):
-        assert np.array_equal(np.asarray(a), b)
-    assert float(np.sum(added)) == pytest.approx((PRESSURE_FLOOR * 5e5 + 17.0) / (gamma - 1.0), rel=1e-6)
+        assert all(float(np.asarray(a)[k]) == b[k] for a, b in zip(floored, U))
+    assert np.array_equal(np.asarray(mass), np.asarray(floored[0]) - U[0])
+    assert np.array_equal(np.asarray(energy), np.asarray(floored[-1]) - U[-1])
+    assert float(np.asarray(energy)[1]) == pytest.approx((FLOOR * 5e5 + 17.0) / (gamma - 1.0), rel=1e-6)

@@ -18,7 +18,7 @@ from gridref.euler.immersed import immersed_boundary
 from gridref.euler.reconstruct import LIMITERS
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import conservative, primitive
-from gridref.euler.step import PRESSURE_FLOOR, Scheme, Stepper
+from gridref.euler.step import FLOOR, Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from gridref.march import march
 
@@ -140,7 +140,7 @@ class _Run(RunRecord):
         self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
-        #: the stepper, whose pressure floor counts go to the result
+        #: the stepper, whose vacuum floor counts go to the result
         self.stepper = None
 
     def fields(self, U):
@@ -165,9 +165,10 @@ class _Run(RunRecord):
         walls = ", conservative cut-cell immersed boundary (flux redistribution, small cells merged)"
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux"
                   f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order, "
-                  f"pressure floor {PRESSURE_FLOOR:g} max(p) where a near-vacuum still turns negative")
-        attrs = {"regrid": how, "pressure_floors": self.stepper.floors,
-                 "pressure_floor_energy": self.stepper.floor_energy}
+                  f"vacuum floors ({FLOOR:g} of the largest density and pressure) where a near-vacuum still "
+                  "turns negative")
+        attrs = {"regrid": how, "vacuum_floors": self.stepper.floors, "vacuum_floor_mass": self.stepper.floor_mass,
+                 "vacuum_floor_energy": self.stepper.floor_energy}
         if _closed(scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)

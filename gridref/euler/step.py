@@ -145,31 +145,36 @@ def _dilated(mask):
     return mask
 
 
-#: the pressure floor, relative to the largest pressure in the gas (:func:`pressure_floored`)
-PRESSURE_FLOOR = 1e-6
+#: the vacuum floors, relative to the largest pressure and density in the gas (:func:`vacuum_floored`)
+FLOOR = 1e-6
 
 
-def pressure_floored(U, gamma, fluid=None):
-    """``(U, cells, ΔE)``: ``U`` with the pressure of every cell whose
-    density is positive and state finite but whose pressure is not raised
-    to ``p_f = PRESSURE_FLOOR · max p`` by adding internal energy
-    ``ΔE = (p_f − p)/(γ − 1)`` per unit volume (density and momentum kept;
-    ``ΔE`` is 0 in the other cells); ``cells`` counts them.
+def vacuum_floored(U, gamma, fluid=None):
+    """``(U, cells, Δρ, ΔE)``: ``U`` with every finite cell of a near-vacuum
+    made physical: a non-positive pressure over a positive density raised
+    to ``p_f = FLOOR · max p`` by internal energy alone (density and
+    momentum kept); a non-positive density set to ``ρ_f = FLOOR · max ρ``
+    at rest with pressure ``p_f``. ``cells`` counts them; ``Δρ`` and ``ΔE``
+    are the mass and energy per unit volume that changed (0 elsewhere).
 
     The last resort after the positivity fallback: in a near-vacuum (the
-    attached expansion round the rear of a rod at 0.25 mm: kinetic energy
-    10⁴ times the internal energy) the total and kinetic energies are
-    updated separately and their difference loses its sign to a relative
-    error of 10⁻⁴, however short the step (as in Athena's or FLASH's
-    floors)."""
+    attached expansion round the rear of a rod at 0.25 mm, kinetic energy
+    10⁴ times the internal; the rear corners of a triangle) the total and
+    kinetic energies are updated separately and their difference loses its
+    sign to a relative error of 10⁻⁴, however short the step (floors as in
+    Athena's or FLASH's)."""
     W = primitive(U, gamma)
     rho, p = W[0], W[-1]
     finite = jnp.all(jnp.stack([jnp.isfinite(a) for a in U]), axis=0)
     gas = finite if fluid is None else finite & fluid
-    floor = PRESSURE_FLOOR * jnp.max(jnp.where(gas & (p > 0.0), p, 0.0))
+    p_f = FLOOR * jnp.max(jnp.where(gas & (rho > 0.0) & (p > 0.0), p, 0.0))
+    rho_f = FLOOR * jnp.max(jnp.where(gas, rho, 0.0))
+    empty = gas & ~(rho > 0.0)
     low = gas & (rho > 0.0) & ~(p > 0.0)
-    added = jnp.where(low, (floor - p) / (gamma - 1.0), 0.0)
-    return (*U[:-1], U[-1] + added), jnp.sum(low), added
+    E = jnp.where(empty, p_f / (gamma - 1.0), jnp.where(low, U[-1] + (p_f - p) / (gamma - 1.0), U[-1]))
+    mass = jnp.where(empty, rho_f, rho)
+    momentum = tuple(jnp.where(empty, 0.0, m) for m in U[1:-1])
+    return (mass, *momentum, E), jnp.sum(empty | low), mass - rho, E - U[-1]
 
 
 def second_order_allowed(ok, U_new, gamma):
@@ -230,8 +235,9 @@ class Stepper:
     ``stepper(U, dt, states) -> (U, dt_next, side_forces, probes)`` advances
     by ``dt`` and returns the CFL step of the new state as a float (NaN if
     the state is not physical even after the positivity fallback and the
-    pressure floor). ``floors`` counts the cells the pressure floor raised
-    and ``floor_energy`` the energy it added [J, per metre depth in 2D].
+    vacuum floors). ``floors`` counts the cells the floors changed, and
+    ``floor_mass`` and ``floor_energy`` the mass and energy they added
+    [kg and J, per metre depth in 2D].
     ``initial_dt(U)`` gives the first one; ``compile(U, states)`` compiles
     every kernel ahead of time and returns the seconds it took.
 
@@ -245,7 +251,7 @@ class Stepper:
 
     def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None):
         self.scheme = scheme
-        self.floors, self.floor_energy = 0, 0.0
+        self.floors, self.floor_mass, self.floor_energy = 0, 0.0, 0.0
         fluid = None if immersed is None else jnp.asarray(immersed.fluid)
         open_volume = np.prod(scheme.dx) * (1.0 if immersed is None else immersed.volume)
         fill_solids = None if immersed is None else immersed.fill
@@ -267,8 +273,9 @@ class Stepper:
         self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
 
         def floored(U):
-            U, cells, added = pressure_floored(U, scheme.gamma, fluid)
-            return U, stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid), cells, jnp.sum(added * open_volume)
+            U, cells, mass, energy = vacuum_floored(U, scheme.gamma, fluid)
+            return (U, stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid), cells, jnp.sum(mass * open_volume),
+                    jnp.sum(energy * open_volume))
 
         self._floored = jax.jit(floored)
 
@@ -284,9 +291,10 @@ class Stepper:
             Wh, ok = self._half_allowed(Wg, slopes, dt, ok)
             out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], Wh, dt)
         if not np.isfinite(float(out[1])):
-            U_new, dt_next, cells, added = self._floored(out[0])
+            U_new, dt_next, cells, mass, energy = self._floored(out[0])
             self.floors += int(cells)
-            self.floor_energy += float(added)
+            self.floor_mass += float(mass)
+            self.floor_energy += float(energy)
             out = (U_new, dt_next, *out[2:])
         return out[0], float(out[1]), out[2], out[3]
 
