@@ -132,10 +132,10 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     """The study's report from the finished runs in ``output/runs/``:
 
     * ``wall_loads.csv``/``.json``/``.nc``: one row per configuration and
-      method (:func:`compare.report.wall_load_table`);
-    * ``ranking.csv``: configurations ranked by wall impulse per method
-      (1: the lowest impulse), ``rank_correlation.csv``: Spearman's ρ
-      between the methods' rankings;
+      method (:func:`compare.report.wall_load_table`) with its blast;
+    * ``ranking.csv``: the configurations of each blast ranked by wall
+      impulse per method (1: the lowest impulse), ``rank_correlation.csv``:
+      Spearman's ρ between the methods' rankings, per blast;
     * figures: wall force and impulse of every configuration with its
       methods overlaid (``force_<label>.png``), of every method with its
       configurations overlaid (``force_<method>.png``), and schlieren
@@ -150,7 +150,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     from cases.sweep import finished
 
     dx = dict(dx or {})
-    runs, labels, names, missing = [], [], [], []
+    runs, labels, names, blasts, missing = [], [], [], [], []
     for method in methods:
         for c in configs:
             name = c.run(method, dx.get(method)).name
@@ -159,18 +159,22 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
                 runs.append(read(path))
                 labels.append(c.label)
                 names.append(name)
+                blasts.append(dict(c.parameters)["blast"])
             else:
                 missing.append(name)
     if not runs:
         raise InputError(f"no finished runs of the study in {str(output / 'runs')!r}.")
     table = wall_load_table(runs, labels)
+    table.insert(1, "blast", blasts)
     if seconds:
         table["run_seconds"] = [seconds.get(n, float("nan")) for n in names]
     write_table(table, output, "wall_loads")
     impulse = "wall_impulse_final"
-    ranks = ranking(table, impulse)
-    ranks.to_csv(output / "ranking.csv")
-    rank_correlation(ranks).to_csv(output / "rank_correlation.csv")
+    # the configurations of each blast ranked among themselves
+    ranks = {blast: ranking(group, impulse) for blast, group in table.groupby("blast", sort=False)}
+    pd.concat(ranks, names=["blast"]).to_csv(output / "ranking.csv")
+    pd.concat({blast: rank_correlation(r) for blast, r in ranks.items()}, names=["blast"]).to_csv(
+        output / "rank_correlation.csv")
     figures = output / "figures"
     for label in dict.fromkeys(labels):
         group = [(ds, ds.attrs["method"]) for ds, lab in zip(runs, labels) if lab == label]

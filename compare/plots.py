@@ -74,9 +74,11 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     if reference is not None and var in reference:
         ref = reference[var].sel(probe=probe) if probe is not None else reference[var]
         ax.plot(reference.t_probe * scale, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
-    for ds, name in zip(runs, names):
+    for k, (ds, name) in enumerate(zip(runs, names)):
         y = ds[var].sel(probe=probe) if probe is not None else ds[var]
-        ax.plot(ds.t_probe * scale, y, lw=1.0, label=_label(ds, name))
+        # beyond the ten colours of the cycle, the same colours dashed, then dotted
+        ax.plot(ds.t_probe * scale, y, lw=1.0, color=f"C{k % 10}", ls=("-", "--", ":", "-.")[k // 10 % 4],
+                label=_label(ds, name))
     first = runs[0][var]
     ax.set_xlabel(f"time [{unit or 's'}]")
     ax.set_ylabel(_axis_label(first))

@@ -110,8 +110,8 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
         assert by.loc[label, "wall_impulse_final"] < 0.75 * by.loc["no obstacle (moderate)", "wall_impulse_final"]
         assert by.loc[label, "wall_force_peak_fitted"] < 0.75 * by.loc["no obstacle (moderate)",
                                                                          "wall_force_peak_fitted"]
-    ranks = pd.read_csv(folder / "ranking.csv", index_col=0)
-    assert ranks.loc["no obstacle (moderate)", "fv"] == 3
+    ranks = pd.read_csv(folder / "ranking.csv", index_col=[0, 1])
+    assert ranks.loc[("moderate", "no obstacle (moderate)"), "fv"] == 3
     saved = json.loads((folder / "wall_loads.json").read_text())
     assert len(saved) == 3 and math.isclose(saved[1]["wall_impulse_final"], by.loc["circle inline",
                                                                                      "wall_impulse_final"])
