@@ -49,6 +49,7 @@ class Configuration:
     label: str
     case: str
     parameters: tuple = ()
+    part: str = "moderate"
 
     def run(self, method: str, dx: float | None = None) -> SweepRun:
         """The run of this configuration with ``method`` at ``dx`` (default:
@@ -61,14 +62,14 @@ class Configuration:
         return get(self.case, **dict(self.parameters))
 
 
-def _open_channel(blast: str) -> Configuration:
+def _open_channel(blast: str, part: str) -> Configuration:
     return Configuration(f"no obstacle ({blast})", "blast_wall",
-                         (("blast", blast), ("dim", 1), ("height", ROWS * ROW_PITCH)))
+                         (("blast", blast), ("dim", 1), ("height", ROWS * ROW_PITCH)), part)
 
 
-def _array(label: str, blast: str = "moderate", **parameters) -> Configuration:
+def _array(label: str, part: str, blast: str = "moderate", **parameters) -> Configuration:
     values = {"blast": blast, "rows": ROWS, "one_period": True, **parameters}
-    return Configuration(label, "blast_array", tuple(values.items()))
+    return Configuration(label, "blast_array", tuple(values.items()), part)
 
 
 def configurations(parts=("moderate",)) -> list[Configuration]:
@@ -87,18 +88,19 @@ def configurations(parts=("moderate",)) -> list[Configuration]:
         raise InputError(f"study part {unknown[0] if unknown else '(none)'!r} is not one of {', '.join(PARTS)}.")
     found = []
     if "moderate" in parts:
-        found.append(_open_channel("moderate"))
-        found += [_array(f"{shape} {arrangement}", shape=shape, arrangement=arrangement)
+        found.append(_open_channel("moderate", "moderate"))
+        found += [_array(f"{shape} {arrangement}", "moderate", shape=shape, arrangement=arrangement)
                   for shape in SHAPES for arrangement in ARRANGEMENTS]
     if "variants" in parts:
         for shape in VARIANT_SHAPES:
-            found += [_array(f"{shape} standoff {s:g}", shape=shape, standoff=s) for s in (0.17, 0.51)]
-            found += [_array(f"{shape} {n} layers", shape=shape, layers=n) for n in (5, 7)]
-            found.append(_array(f"{shape} 6 layers standoff 0.17", shape=shape, layers=6, standoff=0.17))
-            found.append(_array(f"{shape} trap", shape=shape, **TRAP))
+            found += [_array(f"{shape} standoff {s:g}", "variants", shape=shape, standoff=s) for s in (0.17, 0.51)]
+            found += [_array(f"{shape} {n} layers", "variants", shape=shape, layers=n) for n in (5, 7)]
+            found.append(_array(f"{shape} 6 layers standoff 0.17", "variants", shape=shape, layers=6, standoff=0.17))
+            found.append(_array(f"{shape} trap", "variants", shape=shape, **TRAP))
     if "strong" in parts:
-        found.append(_open_channel("strong"))
-        found += [_array(f"{shape} trap (strong)", blast="strong", shape=shape, **TRAP) for shape in VARIANT_SHAPES]
+        found.append(_open_channel("strong", "strong"))
+        found += [_array(f"{shape} trap (strong)", "strong", blast="strong", shape=shape, **TRAP)
+                  for shape in VARIANT_SHAPES]
     return found
 
 
@@ -137,9 +139,10 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
       impulse per method (1: the lowest impulse), ``rank_correlation.csv``:
       Spearman's ρ between the methods' rankings, per blast;
     * figures: wall force and impulse of every configuration with its
-      methods overlaid (``force_<label>.png``), of every method with its
-      configurations overlaid (``force_<method>.png``), and schlieren
-      snapshots at 1.7 ms per method (``schlieren_<method>.png``).
+      methods overlaid (``wall_force_<label>.png``), of every method and
+      part of the study with its configurations overlaid
+      (``wall_force_<method>_<part>.png``), and schlieren snapshots at
+      1.7 ms per method and part (``schlieren_<method>_<part>.png``).
 
     Runs not finished are left out of the tables (listed as missing).
     ``seconds`` (run name -> seconds) adds the wall time the runs took
@@ -150,7 +153,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     from cases.sweep import finished
 
     dx = dict(dx or {})
-    runs, labels, names, blasts, missing = [], [], [], [], []
+    runs, labels, names, blasts, parts, missing = [], [], [], [], [], []
     for method in methods:
         for c in configs:
             name = c.run(method, dx.get(method)).name
@@ -160,6 +163,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
                 labels.append(c.label)
                 names.append(name)
                 blasts.append(dict(c.parameters)["blast"])
+                parts.append(c.part)
             else:
                 missing.append(name)
     if not runs:
@@ -182,14 +186,14 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
         for var in ("wall_force", "wall_impulse"):
             plots.series([g[0] for g in group], var, figures / f"{var}_{stem}.png", names=[g[1] for g in group],
                          scale=1e3, unit="ms", title=label)
-    for method in dict.fromkeys(ds.attrs["method"] for ds in runs):
-        group = [(ds, lab) for ds, lab in zip(runs, labels) if ds.attrs["method"] == method]
+    for method, part in dict.fromkeys((ds.attrs["method"], p) for ds, p in zip(runs, parts)):
+        group = [(ds, lab) for ds, lab, p in zip(runs, labels, parts) if ds.attrs["method"] == method and p == part]
         for var in ("wall_force", "wall_impulse"):
-            plots.series([g[0] for g in group], var, figures / f"{var}_{method}.png", names=[g[1] for g in group],
-                         scale=1e3, unit="ms", title=f"{method}: every configuration")
+            plots.series([g[0] for g in group], var, figures / f"{var}_{method}_{part}.png",
+                         names=[g[1] for g in group], scale=1e3, unit="ms", title=f"{method}, {part}")
         maps = [(ds, lab) for ds, lab in group if "y" in ds.dims and SNAPSHOT_TIME <= float(ds.time[-1])]
         if maps:
-            plots.schlieren_maps([m[0] for m in maps], figures / f"schlieren_{method}.png",
+            plots.schlieren_maps([m[0] for m in maps], figures / f"schlieren_{method}_{part}.png",
                                  names=[f"{method}: {m[1]}" for m in maps], time=SNAPSHOT_TIME, columns=1)
     if missing:
         print(f"{len(missing)} runs not finished: {', '.join(missing)}")

@@ -85,7 +85,11 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     where = f" {probe!r}" if probe is not None else ""
     what = first.attrs.get("long_name", var).split(",")[0]
     ax.set_title(f"{title or runs[0].attrs['case']}: {what}{where}", fontsize=10)
-    ax.legend(fontsize=8)
+    if len(runs) > 6:  # (beside the axes: inside, a long legend hides the lines)
+        fig.set_size_inches(10.5, 4.2)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    else:
+        ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
