@@ -123,11 +123,17 @@ def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: di
     dx = dict(dx or {})
     configs = configurations(parts) if configs is None else list(configs)
     runs = [c.run(method, dx.get(method)) for method in methods for c in configs]
-    records = execute(runs, Path(output) / "runs", settings, scheduler, workers, progress, "blast-array study")
-    failed = [r for r in records if r["status"] == "failed"]
-    for r in failed:
-        print(f"failed: {r['name']}: {r['message']}")
+    records = _reported(execute(runs, Path(output) / "runs", settings, scheduler, workers, progress,
+                                "blast-array study"))
     return report_study(configs, methods, Path(output), dx, {r["name"]: r["seconds"] for r in records})
+
+
+def _reported(records: list[dict]) -> list[dict]:
+    """The records of :func:`cases.sweep.execute`, after printing the runs that failed and why."""
+    for r in records:
+        if r["status"] == "failed":
+            print(f"failed: {r['name']}: {r['message']}")
+    return records
 
 
 def report_study(configs, methods, output: Path, dx: dict | None = None, seconds: dict | None = None) -> pd.DataFrame:
@@ -219,11 +225,9 @@ def run_sensitivity(ladders: dict, output: str | Path = "study", label: str = "c
 
     config = configuration(label)
     runs = [config.run(method, dx) for method, spacings in ladders.items() for dx in spacings]
-    records = execute(runs, Path(output) / "runs", settings, scheduler, workers, progress, f"ladder of {label}")
+    records = _reported(execute(runs, Path(output) / "runs", settings, scheduler, workers, progress,
+                                f"ladder of {label}"))
     done = [r for r in records if r["status"] != "failed"]
-    for r in records:
-        if r["status"] == "failed":
-            print(f"failed: {r['name']}: {r['message']}")
     if not done:
         raise InputError(f"no run of the ladder of {label!r} finished.")
     results = [read(r["path"]) for r in done]

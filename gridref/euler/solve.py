@@ -87,10 +87,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         return jnp.sum(p * probe_w, axis=-1)
 
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure)
-    run = _Run(scene, grid, ib, settings,
+    run = _Run(scene, grid, ib, stepper, settings,
                compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
-    run.stepper = stepper
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
@@ -133,15 +132,14 @@ class _Run(RunRecord):
     """The record of one fv run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
 
-    def __init__(self, scene, grid, immersed, settings, compile_seconds, history):
+    def __init__(self, scene, grid, immersed, stepper, settings, compile_seconds, history):
         super().__init__(scene, "fv", settings, compile_seconds, history)
-        self.grid = grid
+        #: the stepper, whose vacuum floor counts go to the result
+        self.grid, self.stepper = grid, stepper
         #: the open volume fraction of every cell (1 without obstacles) and the cells whose centre is in a body
         self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
-        #: the stepper, whose vacuum floor counts go to the result
-        self.stepper = None
 
     def fields(self, U):
         cell = float(np.prod(self.grid.step))

@@ -90,8 +90,7 @@ class VerletLists:
         reach = slack * H_real + moving
         if growth is not None:
             reach[: growth.size] *= growth
-        if self.periodic.any():  # (minimum images: no list reaches beyond half a period)
-            reach = np.minimum(reach, self.half_period)
+        reach = np.minimum(reach, self.half_period)  # (minimum images: no list reaches beyond half a period)
         gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, float(reach.max()), self.open)
         x = np.concatenate([x_real, gx])
         radius = np.concatenate([reach, reach[src]])
