@@ -125,7 +125,8 @@ def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: di
     runs = [c.run(method, dx.get(method)) for method in methods for c in configs]
     records = _reported(execute(runs, Path(output) / "runs", settings, scheduler, workers, progress,
                                 "blast-array study"))
-    return report_study(configs, methods, Path(output), dx, {r["name"]: r["seconds"] for r in records})
+    return report_study(configs, methods, Path(output), dx,
+                        {r["name"]: r["seconds"] for r in records if r["status"] == "ran"})
 
 
 def _reported(records: list[dict]) -> list[dict]:

@@ -2,14 +2,8 @@
 scene's output grid (Prasanna Kumar, Patnaik & Ramamurthi 2018, Phys.
 Fluids 30, 046105; Price 2012, J. Comput. Phys. 231, 759).
 
-Time integration is the predictor–corrector leapfrog (kick–drift–kick with
-a predicted velocity for the velocity-dependent terms; Price 2012 §2.9):
-
-    v^{n+½} = v^n + ½Δt a^n,   x^{n+1} = x^n + Δt v^{n+½},
-    a^{n+1} = a(x^{n+1}, v^n + Δt a^n),   v^{n+1} = v^{n+½} + ½Δt a^{n+1},
-
-likewise for the specific internal energy, with
-Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
+Time integration is the predictor–corrector leapfrog of
+:mod:`particle.sph.integrator` with Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
 """
 
 from __future__ import annotations
@@ -33,6 +27,7 @@ from particle.neighbours import neighbour_lists, padded, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
+from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
 from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import (
     check_supported,
@@ -40,26 +35,19 @@ from particle.sph.particles import (
     outflow_reach,
     place_1d,
     place_2d,
-    reflect_at_plane_walls,
 )
 from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
-from particle.sph.walls import in_box, reflect_into_fluid, virtual_state, walls
+from particle.sph.walls import in_box, virtual_state, walls
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles",
             *CHECKPOINT_SETTINGS)
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
-#: neighbour lists are built for this multiple of the predicted support; the
-#: margin lets the support grow in the density solve and, as a Verlet skin,
-#: the particles move for a few steps before the next search
-SEARCH_SLACK = 1.25
 #: the growth of a support the inflow buffer's depth and the outflow margin allow for
 SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
 RESORT_STEPS = 10
-#: steps of support growth (at the rate ∇·v/d) a new search's lists allow for
-LOOKAHEAD_STEPS = 4
 #: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
 MIN_SUPPORT = 1e-3
 
@@ -142,23 +130,23 @@ class GasSPH:
             return None
         return in_box(x, self.region)
 
-    def evaluate(self, P: Particles, x, v, u, buffer=None, growth=None) -> Evaluation:
+    def evaluate(self, P: Particles, x, v, u, imposed=None, growth=None) -> Evaluation:
         """Density, support and rates of change of the fluid particles at the
         state ``(x, v, u)``; ``P`` supplies masses, the support guess, the
         viscosity and conduction switches and the last density; ``growth``,
         the supports' expected growth over the next few steps, widens the
         lists of a new search (:meth:`VerletLists.search`). Particles whose state is
-        imposed, not computed — the inflow ``buffer`` ``(x, v, rho, u, H)``
-        and the walls' virtual particles — act as neighbours only; mirror
-        ghosts are made of all of them."""
+        imposed, not computed — ``imposed`` ``(x, v, rho, u, H, m)`` (an inflow
+        buffer, the boundary particles of ``hybrid``) and the walls' virtual
+        particles — act as neighbours only; mirror ghosts are made of all of them."""
         n, dim, gamma = x.shape[0], self.dim, self.scene.gamma
-        imposed = [(np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))]
-        if buffer is not None:
-            imposed.append((*buffer, np.full(buffer[0].shape[0], P.m[0])))
+        given = [(np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))]
+        if imposed is not None:
+            given.append(imposed)
         if self.wall is not None:
-            imposed.append(virtual_state(self.wall, x, v, P.rho, (gamma - 1.0) * P.rho * u, P.m, P.H, self.kind,
+            given.append(virtual_state(self.wall, x, v, P.rho, (gamma - 1.0) * P.rho * u, P.m, P.H, self.kind,
                                          self.eta, gamma))
-        bx, bv, brho, bu, bH, bm = (np.concatenate(parts) for parts in zip(*imposed))
+        bx, bv, brho, bu, bH, bm = (np.concatenate(parts) for parts in zip(*given))
         x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
         H_real = np.concatenate([P.H, bH])
         m_real = np.concatenate([P.m, bm])
@@ -261,6 +249,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
+    switches = Switches(alpha_max, alpha_min, alpha_u)
     reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
     P = _initial_particles(scene, dx, eta, alpha_min, box)
@@ -272,7 +261,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     # the first evaluation, switch update and interpolation compile (or load) the numba kernels, and
     # compile_rest those a run meets later
     try:
-        E = sph.evaluate(P, P.x, P.v, P.u, inflow.particles(0.0, eta) if inflow else None)
+        E = sph.evaluate(P, P.x, P.v, P.u, _buffer(inflow, 0.0, eta, P.m[0]))
     except FloatingPointError as err:
         raise SolverFailed(f"sph failed on the initial state: {err}.") from None
     P.alpha = cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
@@ -310,48 +299,19 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         sph.verlet.renumber(order)
                     speed = E.vsig + np.linalg.norm(P.v, axis=1)
                     dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
-                    # the step works on a copy: a failed step leaves P and E, the last consistent state
-                    Q = dataclasses.replace(P)
-                    v_half, u_half = P.v + 0.5 * dt * E.dvdt, P.u + 0.5 * dt * E.dudt
-                    # predicted support: dH/dt = H ∇·v / d, the guess for the next density solve
-                    Q.H = E.H * np.exp(dt * E.div_v / dim)
-                    v_pred, u_pred = Q.v + dt * E.dvdt, Q.u + dt * E.dudt
-                    Q.x = sph.verlet.wrapped(Q.x + dt * v_half)
-                    # the safeguard: a particle the walls did not stop is mirrored back into the fluid
-                    Q.x, v_half, v_pred, reflected = reflect_at_plane_walls(scene, Q.x, v_half, v_pred)
-                    run.reflections += reflected
-                    if sph.wall is not None:
-                        Q.x, v_half, v_pred, reflected = reflect_into_fluid(scene.obstacles, Q.x, v_half, v_pred)
-                        run.reflections += reflected
-                    div_old = E.div_v
-                    if inflow:
+                    entering = None if not inflow else (
                         # buffer particles that crossed the inlet join the fluid with the boundary state
-                        new = _entering(inflow, t, dt, eta, Q.m[0], alpha_min)
-                        Q.append(new)
-                        v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
-                        u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
-                        div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
-                    stay = sph.retained(Q.x)
-                    if stay is not None and not stay.all():
-                        Q.keep(stay)
-                        v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))
+                        lambda Q, t=t, dt=dt: _entering(inflow, t, dt, eta, Q.m[0], alpha_min))
                     try:
-                        growth = np.exp(np.clip(div_old, 0.0, None) * (LOOKAHEAD_STEPS * dt / dim))
-                        E_new = sph.evaluate(Q, Q.x, v_pred, u_pred, inflow.particles(t + dt, eta) if inflow else None,
-                                             np.minimum(growth, SEARCH_SLACK))
+                        Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
+                                                       entering, sph.retained)
+                    except Unstable as err:
+                        raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
+                                          f"{err}.", t, lambda: run.fields(P, E)) from None
                     except FloatingPointError as err:
                         raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
                                           lambda: run.fields(P, E)) from None
-                    v_new, u_new = v_half + 0.5 * dt * E_new.dvdt, u_half + 0.5 * dt * E_new.dudt
-                    if not (np.all(np.isfinite(v_new)) and np.all(u_new > 0)):
-                        k = int(np.flatnonzero(~(u_new > 0) | ~np.isfinite(v_new).all(axis=1))[0])
-                        raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                          f"internal energy {u_new[k]:.3g} at x = {Q.x[k].round(6).tolist()} m.", t,
-                                          lambda: run.fields(P, E))
-                    Q.alpha_u = conduction_switch(Q.alpha_u, E_new.lap_u, u_new, E_new.vsig, E_new.H, dt, alpha_u, 0.0)
-                    Q.alpha = cullen_dehnen(Q.alpha, E_new.div_v, div_old, E_new.curl_v, E_new.vsig, E_new.H, dt,
-                                            alpha_max, alpha_min)
-                    Q.v, Q.u, Q.H, Q.rho = v_new, u_new, E_new.H, E_new.rho
+                    run.reflections += reflected
                     P, E = Q, E_new
                     t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
                     _observe_inlet(inflow, P, E, t, eta)
@@ -390,8 +350,7 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
         groups.append((*virtual_state(sph.wall, P.x, P.v, P.rho, (gamma - 1.0) * P.rho * P.u, P.m, P.H, sph.kind,
                                       sph.eta, gamma), KINDS["wall"]))
     if inflow is not None:
-        bx, bv, brho, bu, bH = inflow.particles(t, sph.eta)
-        groups.append((bx, bv, brho, bu, bH, np.full(bx.shape[0], P.m[0]), KINDS["buffer"]))
+        groups.append((*_buffer(inflow, t, sph.eta, P.m[0]), KINDS["buffer"]))
     x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
     kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
     return particle_snapshot(x, v, rho, (gamma - 1.0) * rho * u, m, H, kind, KINDS, sph.scene.name, "sph", t)
@@ -426,6 +385,15 @@ def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: f
     return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
                      H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), alpha_u=np.zeros(k),
                      rho=np.full(k, brho[0]))
+
+
+def _buffer(inflow, t: float, eta: float, mass: float):
+    """The inflow buffer's particles at time ``t`` as imposed particles
+    ``(x, v, rho, u, H, m)`` (each of mass ``mass``), or None without one."""
+    if not inflow:
+        return None
+    bx, bv, brho, bu, bH = inflow.particles(t, eta)
+    return bx, bv, brho, bu, bH, np.full(bx.shape[0], mass)
 
 
 def _observe_inlet(inflow, P: Particles, E: Evaluation, t: float, eta: float) -> None:
