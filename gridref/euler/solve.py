@@ -27,7 +27,7 @@ def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
 
 
-def _inflow_states(scene, t):
+def inflow_states(scene, t):
     """Primitive inflow state of every side at time ``t`` (zeros elsewhere)."""
     rows = []
     for side in scene.sides:
@@ -49,6 +49,22 @@ def _fields(W, gamma, names, solid):
             f[solid] = np.nan
         out[name] = f
     return out
+
+
+def initial_state(scene, grid, fluid=None):
+    """The scene's initial state on ``grid`` as conservative variables
+    (checked: positive density and pressure in the ``fluid`` cells)."""
+    X, Y = mesh(grid)
+    dx = float(grid.step[0])
+    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
+    check_initial_state(scene, rho, p, X, Y, fluid=fluid)
+    return conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), scene.gamma)
+
+
+def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
+    """The MUSCL–Hancock scheme of ``scene`` on ``grid`` (its boundary kinds per side)."""
+    kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
+    return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
 
 
 def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, progress=True, checkpoint=None,
@@ -73,13 +89,9 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     }
     dx, t_end, gamma, cfl = settings["dx"], settings["t_end"], scene.gamma, settings["cfl"]
     grid = solver_grid(scene.domain, dx)
-    X, Y = mesh(grid)
-    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
     ib = _immersed(scene, grid, dx)
-    check_initial_state(scene, rho, p, X, Y, fluid=None if ib is None else ib.fluid)
-    U = conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), gamma)
-    kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
-    scheme = Scheme(gamma=gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
+    U = initial_state(scene, grid, None if ib is None else ib.fluid)
+    scheme = scheme_for(scene, grid, cfl, limiter, riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
 
     def probe_pressure(U):
@@ -88,7 +100,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure)
     run = _Run(scene, grid, ib, stepper, settings,
-               compile_seconds=stepper.compile(U, _inflow_states(scene, 0.0)),
+               compile_seconds=stepper.compile(U, inflow_states(scene, 0.0)),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     t = 0.0
     dt_cfl = float(stepper.initial_dt(U))
@@ -101,7 +113,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     def advance(U, t, t_out, dt_cfl):
         """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
         dt = min(dt_cfl, t_out - t)
-        U_new, dt_cfl, forces, probes = stepper(U, dt, _inflow_states(scene, t))
+        U_new, dt_cfl, forces, probes = stepper(U, dt, inflow_states(scene, t))
         if not np.isfinite(dt_cfl):
             run.failed_step = (U_new, t + dt)
             return U, t, dt_cfl, probes, forces, 0

@@ -54,7 +54,7 @@ def leapfrog(sph, P, E, dt: float, switches: Switches, imposed=None,
     new time, ``(x, v, rho, u, H, m)`` (neighbours only: an inflow buffer,
     the boundary particles of ``hybrid``); ``joining(Q)`` returns the
     particles that join the fluid over the step (appended after the
-    drift); ``retained(x)`` is True for the particles that stay (None: all).
+    drift); ``retained(Q)`` is True for the particles of ``Q`` that stay (None: all).
     Raises :class:`Unstable` (a particle's energy turned non-positive) or
     ``FloatingPointError`` (the density solve failed), saying where."""
     dim = P.x.shape[1]
@@ -76,7 +76,7 @@ def leapfrog(sph, P, E, dt: float, switches: Switches, imposed=None,
         v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
         u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
         div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
-    stay = None if retained is None else retained(Q.x)
+    stay = None if retained is None else retained(Q)
     if stay is not None and not stay.all():
         Q.keep(stay)
         v_half, v_pred, u_half, u_pred, div_old = (a[stay] for a in (v_half, v_pred, u_half, u_pred, div_old))

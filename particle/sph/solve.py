@@ -304,7 +304,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         lambda Q, t=t, dt=dt: _entering(inflow, t, dt, eta, Q.m[0], alpha_min))
                     try:
                         Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
-                                                       entering, sph.retained)
+                                                       entering, lambda Q: sph.retained(Q.x))
                     except Unstable as err:
                         raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
                                           f"{err}.", t, lambda: run.fields(P, E)) from None

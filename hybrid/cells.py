@@ -1,0 +1,97 @@
+"""Which cells of the coarse grid hold particles, and where particles go in them.
+
+The hybrid method (Myers, Musk, Palmer & Palmer 2024, Front. Phys. 11,
+1325294) puts SPH particles only in the cells that need them: those where
+density or pressure jumps by more than a threshold between face
+neighbours, widened by a buffer of cells (:func:`flagged`); a ring of
+cells around them holds the boundary particles (:func:`ring`). Particles
+are laid out on the injection map of a cell, a square lattice of
+``per_cell`` points per axis (:func:`lattice`).
+
+Fields are in the layout ``([y,] x)`` and cells are numbered in that
+order (flat index ``j nx + i`` in 2D).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+
+def relative_jumps(a: np.ndarray, periodic) -> np.ndarray:
+    """The largest relative jump |a_c − a_n| / min(a_c, a_n) from each cell
+    to its face neighbours ``n`` (``periodic``: per axis x[, y]; the field
+    layout is ``([y,] x)``)."""
+    jumps = np.zeros_like(a)
+    for axis in range(a.ndim):
+        wraps = periodic[a.ndim - 1 - axis]
+        b = np.roll(a, -1, axis=axis)
+        jump = np.abs(b - a) / np.minimum(a, b)
+        if not wraps:  # no neighbour beyond the last cell
+            jump[(slice(None),) * axis + (-1,)] = 0.0
+        jumps = np.maximum(jumps, np.maximum(jump, np.roll(jump, 1, axis=axis)))
+    return jumps
+
+
+def dilated(mask: np.ndarray, cells: int, periodic) -> np.ndarray:
+    """``mask`` grown by ``cells`` cells in every direction (diagonals
+    included), wrapping around periodic axes."""
+    if cells <= 0 or not mask.any():
+        return mask.copy()
+    pad = [(cells, cells) if periodic[mask.ndim - 1 - axis] else (0, 0) for axis in range(mask.ndim)]
+    grown = ndimage.binary_dilation(np.pad(mask, pad, mode="wrap"), np.ones((3,) * mask.ndim, bool), cells)
+    return grown[tuple(slice(lo, grown.shape[k] - hi) for k, (lo, hi) in enumerate(pad))]
+
+
+def flagged(rho: np.ndarray, p: np.ndarray, threshold: float, buffer: int, periodic) -> np.ndarray:
+    """The cells that get particles: a relative jump of density or pressure
+    to a face neighbour above ``threshold``, plus ``buffer`` cells around."""
+    steep = np.maximum(relative_jumps(rho, periodic), relative_jumps(p, periodic)) > threshold
+    return dilated(steep, buffer, periodic)
+
+
+def depth(mask: np.ndarray, periodic) -> np.ndarray:
+    """For each cell of ``mask``, how many cells away (chessboard distance)
+    the nearest cell outside it is: 1 at its edge, 0 outside; periodic axes
+    wrap around, the other sides of the domain do not count as outside
+    (with no cell outside, every cell is as deep as the grid is wide)."""
+    if mask.all():
+        return np.full(mask.shape, max(mask.shape) + 1)
+    cells = max(mask.shape)
+    pad = [(cells, cells) if periodic[mask.ndim - 1 - axis] else (0, 0) for axis in range(mask.ndim)]
+    distance = ndimage.distance_transform_cdt(np.pad(mask, pad, mode="wrap"), metric="chessboard")
+    return distance[tuple(slice(lo, distance.shape[k] - hi) for k, (lo, hi) in enumerate(pad))]
+
+
+def ring(inner: np.ndarray, width: int, periodic) -> np.ndarray:
+    """The cells within ``width`` cells of ``inner`` but not in it."""
+    return dilated(inner, width, periodic) & ~inner
+
+
+def cell_of(x: np.ndarray, lo, dx, shape) -> np.ndarray:
+    """Flat index of the cell holding each position ``x`` (n, d) on the grid
+    with lower corner ``lo``, cell sizes ``dx`` and ``shape`` (per axis x[, y]);
+    positions outside are put in the nearest cell."""
+    index = np.zeros(x.shape[0], np.int64)
+    stride = 1
+    for d in range(x.shape[1]):
+        i = np.clip(np.floor((x[:, d] - lo[d]) / dx[d]).astype(np.int64), 0, shape[d] - 1)
+        index += stride * i
+        stride *= shape[d]
+    return index
+
+
+def lattice(cells: np.ndarray, lo, dx, shape, per_cell: int) -> tuple[np.ndarray, np.ndarray]:
+    """The injection map of the flat cells ``cells``: ``per_cell`` points per
+    axis at the centres of a square sub-lattice of each cell; returns the
+    points (n, d) and the cell each lies in."""
+    dim = len(shape)
+    sub = (np.arange(per_cell) + 0.5) / per_cell
+    offsets = np.stack(np.meshgrid(*([sub] * dim), indexing="ij"), axis=-1).reshape(-1, dim)
+    corner = np.empty((cells.size, dim))
+    rest = cells.copy()
+    for d in range(dim):
+        corner[:, d] = lo[d] + dx[d] * (rest % shape[d])
+        rest //= shape[d]
+    points = (corner[:, None, :] + offsets[None, :, :] * np.asarray(dx, float)).reshape(-1, dim)
+    return points, np.repeat(cells, offsets.shape[0])

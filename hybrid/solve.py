@@ -1,0 +1,411 @@
+"""Hybrid finite-volume – SPH (method ``hybrid``; after Myers, Musk, Palmer &
+Palmer 2024, Front. Phys. 11, 1325294): a coarse MUSCL–Hancock grid
+everywhere, SPH particles only in the cells that need them.
+
+One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
+
+1. The grid takes its finite-volume step everywhere: U_fv(t + Δt).
+2. The particles sub-cycle from t to t + Δt with the SPH leapfrog
+   (:mod:`particle.sph.integrator`), the last sub-step trimmed to land on
+   t + Δt. Their neighbours at the edge are boundary particles on the
+   injection lattice of a ring of cells around the particle cells, which
+   move with the grid's velocity and take the grid's state, interpolated
+   in space (bilinear) and in time (linear between U(t) and U_fv), at
+   every sub-step. A boundary particle that enters a particle cell joins
+   the fluid; a fluid particle that leaves the particle cells is removed.
+3. Conservation: the grid's step fixes what the particle cells hold at
+   t + Δt (Σ_cells U_fv: the flux through their edge), and the particles'
+   mass, momentum and energy are matched to it (:func:`hybrid.exchange.matched`).
+4. The particles are deposited back onto their cells (mass, momentum and
+   energy, cloud-in-cell, with the boundary particles' clouds reaching
+   in); the other cells keep U_fv. The
+   total of the grid is then the finite-volume step's: it changes only
+   through the domain's sides, to round-off.
+5. Cells are flagged anew (relative jump of ρ or p to a face neighbour
+   above ``threshold``, plus ``buffer`` cells; a flagged cell stays flagged
+   until its jumps fall below a quarter of that): fluid particles in the
+   ring become boundary particles and those beyond it are removed;
+   boundary particles in flagged cells join the fluid; flagged cells left
+   with under a quarter of their lattice, and ring cells with under half,
+   get the lattice with the cell's state.
+
+``dx`` is the particle spacing; the grid's cells are ``dx / beta`` wide
+(``beta`` = Δx_SPH/Δx_FV = 1/4: four particles per cell width).
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass
+
+import jax.numpy as jnp
+import numpy as np
+
+from cases.checkpoint import checkpoint_for
+from cases.checks import cfl as check_cfl
+from cases.checks import choice, in_range, integer, positive
+from cases.errors import InputError
+from cases.history import History, RunRecord
+from compare.regrid import to_output_grid
+from gridref.euler.reconstruct import LIMITERS
+from gridref.euler.riemann import RIEMANN_SOLVERS
+from gridref.euler.solve import initial_state, inflow_states, scheme_for
+from gridref.euler.state import primitive
+from gridref.euler.step import Stepper
+from gridref.grid import bilinear_stencil, cell_centres, solver_grid
+from gridref.march import march
+from hybrid.cells import cell_of, depth, flagged, lattice, ring
+from hybrid.exchange import cloud, deposited, interpolated, matched
+from particle import kernels
+from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
+from particle.sph.solve import Evaluation, GasSPH, Particles
+
+#: a cell keeps its particles until its jumps fall below this fraction of the threshold
+RELEASE = 0.25
+
+SETTINGS = ("dx", "beta", "threshold", "buffer", "cfl", "cfl_sph", "kernel", "eta", "alpha_max", "alpha_min",
+            "alpha_u", "limiter", "riemann", "t_end", "progress")
+
+
+@dataclass
+class State:
+    """The coupled state: conservative grid variables ``U`` (every cell),
+    the particle cells ``owned`` (flat bool), the fluid particles ``P`` with
+    their evaluation ``E`` (None where no cell owns particles) and the
+    boundary particles' positions ``xb`` and masses ``mb``."""
+
+    U: tuple
+    owned: np.ndarray
+    P: Particles | None
+    E: Evaluation | None
+    xb: np.ndarray
+    mb: np.ndarray
+
+
+class Coupling:
+    """The grid, the particles and what passes between them, for one run."""
+
+    def __init__(self, scene, grid, stepper, sph, per_cell, eta, threshold, buffer, switches, cfl_sph):
+        self.scene, self.grid, self.stepper, self.sph = scene, grid, stepper, sph
+        self.per_cell, self.eta, self.threshold, self.buffer = per_cell, eta, threshold, buffer
+        self.switches, self.cfl_sph = switches, cfl_sph
+        self.dim, self.gamma = scene.dim, scene.gamma
+        self.shape = tuple(grid.shape)  # cells per axis x[, y]
+        self.field_shape = self.shape[::-1]  # the field layout ([y,] x)
+        self.lo = np.array([lo for lo, _ in scene.domain])
+        self.cell = np.array(grid.step, float)
+        self.volume = float(np.prod(self.cell))
+        self.n_cells = int(np.prod(self.shape))
+        self.lattice_count = per_cell ** self.dim
+        self.periodic = tuple(scene.periodic) + (False,) * (2 - self.dim)
+        #: sub-steps taken and the particle-steps they cost (particles × sub-steps), over the run
+        self.substeps, self.particle_steps, self.most_particles = 0, 0, 0
+        self.error = None
+
+    # --- the grid's state where the particles need it ---
+
+    def primitive(self, U) -> np.ndarray:
+        """Primitive fields (ρ, u[, v], p) of ``U`` as one array (2 + d, [ny,] nx)."""
+        return np.stack([np.asarray(a) for a in primitive(U, self.gamma)])
+
+    def stencil(self, x):
+        return bilinear_stencil(self.grid, x, self.periodic)
+
+    def cells(self, x) -> np.ndarray:
+        """The flat cell of each position ``x`` (n, d)."""
+        return cell_of(x, self.lo, self.cell, self.shape)
+
+    def boundary(self, W, x, m):
+        """Imposed particles ``(x, v, rho, u, H, m)`` at ``x`` with masses ``m``
+        and the grid's primitive state ``W`` there."""
+        values = interpolated(W, self.stencil(x))
+        rho, v, p = values[0], values[1:1 + self.dim].T.copy(), values[-1]
+        return x, v, rho, p / ((self.gamma - 1.0) * rho), self.eta * (m / rho) ** (1.0 / self.dim), m
+
+    def fluid(self, W, x, m) -> Particles:
+        """Fluid particles at ``x`` with masses ``m`` and the grid's state ``W`` there."""
+        _, v, rho, u, H, _ = self.boundary(W, x, m)
+        n = x.shape[0]
+        return Particles(x=x, v=v, u=u, m=m, H=H, alpha=np.full(n, self.switches.alpha_min), alpha_u=np.zeros(n),
+                         rho=rho)
+
+    def ring_width(self, P: Particles, owned) -> int:
+        """Cells of the boundary ring: enough to hold the support (with the
+        search margin) of every fluid particle beyond the particle cells,
+        from the particle's depth inside them, and two more: a narrower ring
+        (measured on ``sod``) lets more noise in at its edge."""
+        inside = depth(owned.reshape(self.field_shape), self.periodic).ravel()[self.cells(P.x)]
+        reach = SEARCH_SLACK * P.H / self.cell[0] - (inside - 1)
+        return max(1, int(np.ceil(float(reach.max())))) + 2
+
+    # --- particles from the grid ---
+
+    def seeded(self, cells, U) -> Particles:
+        """The injection lattice of ``cells`` carrying each cell's mass,
+        momentum and energy exactly (equal masses within a cell)."""
+        x, owner = lattice(cells, self.lo, self.cell, self.shape, self.per_cell)
+        q = np.stack([np.asarray(a).ravel()[owner] for a in U])
+        rho, v = q[0], (q[1:1 + self.dim] / q[0]).T.copy()
+        u = q[-1] / rho - 0.5 * np.sum(v * v, axis=1)
+        m = rho * self.volume / self.lattice_count
+        n = x.shape[0]
+        return Particles(x=x, v=v, u=u, m=m, H=self.eta * (m / rho) ** (1.0 / self.dim),
+                         alpha=np.full(n, self.switches.alpha_min), alpha_u=np.zeros(n), rho=rho)
+
+    def regrouped(self, U, P: Particles | None, xb, mb, owned_before) -> State:
+        """The state after the cells are flagged anew from ``U`` (a cell
+        that held particles, ``owned_before``, keeps them until its jumps
+        fall below ``RELEASE`` times the threshold: without this hysteresis,
+        cells at the edge of the region would change sides step after step,
+        each time trading particle state for grid state, which shows as
+        noise): fluid
+        particles in flagged cells, boundary particles in the ring around
+        them (a particle crossing from one to the other changes its role,
+        one outside both is removed), the lattice in flagged cells left with
+        under a quarter of it and in ring cells left with under half, and the
+        particles' evaluation with their new boundary."""
+        W = self.primitive(U)
+        owned = flagged(W[0], W[-1], self.threshold, self.buffer, self.periodic).ravel()
+        if owned_before.any():
+            owned |= owned_before & flagged(W[0], W[-1], RELEASE * self.threshold, self.buffer, self.periodic).ravel()
+        if not owned.any():
+            return State(U, owned, None, None, np.zeros((0, self.dim)), np.zeros(0))
+        empty = np.zeros((0, self.dim))
+        P = P if P is not None else self.seeded(np.zeros(0, np.int64), U)
+        # boundary particles now in flagged cells join the fluid with the grid's state
+        joins = owned[self.cells(xb)]
+        P.append(self.fluid(W, xb[joins], mb[joins]))
+        xb, mb = xb[~joins], mb[~joins]
+        fill = owned & (np.bincount(self.cells(P.x), minlength=self.n_cells) < 0.25 * self.lattice_count)
+        if fill.any():
+            P = P.take(np.flatnonzero(~fill[self.cells(P.x)]))
+            P.append(self.seeded(np.flatnonzero(fill), U))
+        around = ring(owned.reshape(self.field_shape), self.ring_width(P, owned), self.periodic).ravel()
+        # fluid particles now in the ring become boundary particles; outside both, they go
+        cell = self.cells(P.x)
+        leaving = around[cell]
+        xb, mb = np.concatenate([xb, P.x[leaving]]), np.concatenate([mb, P.m[leaving]])
+        P = P.take(np.flatnonzero(owned[cell]))
+        keep = around[self.cells(xb)] if xb.size else np.zeros(0, bool)
+        xb, mb = xb[keep], mb[keep]
+        thin = around & (np.bincount(self.cells(xb) if xb.size else np.zeros(0, np.int64),
+                                     minlength=self.n_cells) < 0.5 * self.lattice_count)
+        if thin.any():
+            keep = ~thin[self.cells(xb)] if xb.size else np.zeros(0, bool)
+            new, _ = lattice(np.flatnonzero(thin), self.lo, self.cell, self.shape, self.per_cell)
+            rho = interpolated(W[:1], self.stencil(new))[0]
+            xb = np.concatenate([xb[keep] if xb.size else empty, new])
+            mb = np.concatenate([mb[keep], rho * (self.volume / self.lattice_count)])
+        self.sph.verlet.forget()
+        E = self.sph.evaluate(P, P.x, P.v, P.u, self.boundary(W, xb, mb))
+        P.H, P.rho = E.H, E.rho
+        self.most_particles = max(self.most_particles, P.x.shape[0] + xb.shape[0])
+        return State(U, owned, P, E, xb, mb)
+
+    # --- one step of the coupled system ---
+
+    def step(self, S: State, t: float, dt: float):
+        """``(state at t + dt, CFL step of the grid, side forces)``; the CFL
+        step is NaN if the step failed (``self.error`` says why)."""
+        U_fv, dt_cfl, forces, _ = self.stepper(S.U, dt, inflow_states(self.scene, t))
+        if not np.isfinite(float(dt_cfl)):
+            self.error = None
+            return S, float("nan"), forces
+        U_new, P, xb, mb = U_fv, None, S.xb, S.mb
+        if S.P is not None:
+            try:
+                W1 = self.primitive(U_fv)
+                P, xb, mb = self.substepped(S, self.primitive(S.U), W1, t, dt)
+                inside = S.owned.reshape(self.field_shape)
+                target = np.array([float(jnp.sum(jnp.where(inside, a, 0.0))) for a in U_fv]) * self.volume
+                # the boundary particles' clouds reaching into the particle cells, at the grid's new state
+                _, vb, _, ub, _, _ = self.boundary(W1, xb, mb)
+                edge = deposited(cloud(self.stencil(xb), S.owned), mb, vb, ub, self.n_cells, self.volume)
+                weights = cloud(self.stencil(P.x), S.owned)
+                P = matched(P, weights[1].sum(axis=1), target - edge.sum(axis=1) * self.volume)
+            except FloatingPointError as err:
+                self.error = f"hybrid failed at t = {t + dt:.6g} s: {err}."
+                return S, float("nan"), forces
+            D = deposited(weights, P.m, P.v, P.u, self.n_cells, self.volume) + edge
+            U_new = tuple(jnp.where(inside, d.reshape(self.field_shape), a) for d, a in zip(D, U_fv))
+        return self.regrouped(U_new, P, xb, mb, S.owned), float(dt_cfl), forces
+
+    def substepped(self, S: State, W0, W1, t: float, dt: float):
+        """The fluid particles, and the boundary particles' positions and
+        masses, advanced from ``t`` to ``t + dt`` in SPH sub-steps, with the
+        boundary state interpolated between ``W0`` (at t) and ``W1`` (at
+        t + dt); boundary particles move with the grid's velocity."""
+        P, E, xb, mb, owned = S.P, S.E, S.xb, S.mb, S.owned
+        _, vb, rhob, ub, Hb, _ = self.boundary(W0, xb, mb)
+        s, t1 = t, t + dt
+        while s < t1 * (1 - 1e-14):
+            speed = E.vsig + np.linalg.norm(P.v, axis=1)
+            cb = np.sqrt(self.gamma * (self.gamma - 1.0) * ub)
+            ds = self.cfl_sph * min(float(np.min(0.5 * E.H / speed)),
+                                    float(np.min(0.5 * Hb / (cb + np.linalg.norm(vb, axis=1)), initial=np.inf)))
+            ds = min(ds, t1 - s)
+            xb = self.sph.verlet.wrapped(xb + ds * vb)
+            a = (s + ds - t) / dt
+            _, vb, rhob, ub, Hb, _ = self.boundary((1.0 - a) * W0 + a * W1, xb, mb)
+            joins = owned[self.cells(xb)]
+            k = int(joins.sum())
+            joined = Particles(x=xb[joins], v=vb[joins], u=ub[joins], m=mb[joins], H=Hb[joins],
+                               alpha=np.full(k, self.switches.alpha_min), alpha_u=np.zeros(k), rho=rhob[joins])
+            xb, vb, rhob, ub, Hb, mb = (q[~joins] for q in (xb, vb, rhob, ub, Hb, mb))
+            left = []
+
+            def retained(Q):
+                """Fluid particles in the particle cells; those that left become boundary particles."""
+                stay = owned[self.cells(Q.x)]
+                left.append((Q.x[~stay], Q.m[~stay]))
+                return stay
+
+            try:
+                P, E, _ = leapfrog(self.sph, P, E, ds, self.switches, (xb, vb, rhob, ub, Hb, mb),
+                                   lambda Q: joined, retained)
+            except Unstable as err:
+                raise FloatingPointError(f"the particles became unstable ({err})") from None
+            if left and left[0][1].size:
+                x_left, m_left = left[0]
+                _, v_left, rho_left, u_left, H_left, _ = self.boundary((1.0 - a) * W0 + a * W1, x_left, m_left)
+                xb, vb, rhob, ub, Hb, mb = (np.concatenate([q, r]) for q, r in
+                                            zip((xb, vb, rhob, ub, Hb, mb), (x_left, v_left, rho_left, u_left, H_left,
+                                                                             m_left)))
+            if P.x.shape[0] == 0:
+                raise FloatingPointError("every particle left the particle cells")
+            s = t1 if s + ds >= t1 * (1 - 1e-14) else s + ds
+            self.substeps += 1
+            self.particle_steps += P.x.shape[0] + xb.shape[0]
+        return P, xb, mb
+
+
+def solve(scene, dx=None, beta=0.25, threshold=0.05, buffer=2, cfl=0.8, cfl_sph=0.25, kernel="wendland_c6",
+          eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0, limiter="mc", riemann="hllc", t_end=None,
+          progress=True, **unknown):
+    """Run ``scene`` with the hybrid finite-volume – SPH method.
+
+    ``dx`` is the particle spacing [m] (default: the scene's), ``beta`` the
+    ratio of particle spacing to cell width (1/k for a whole k: the grid's
+    cells are ``dx / beta`` wide), ``threshold`` the relative jump of
+    density or pressure between neighbouring cells above which a cell gets
+    particles, ``buffer`` the cells added around those, ``cfl`` the grid's
+    Courant number, ``cfl_sph`` the particles' (Δt = C min h/v_sig); the
+    SPH settings are those of method ``sph`` and ``limiter``/``riemann``
+    those of ``fv``. Raises :class:`~cases.errors.SolverFailed` with the
+    partial result if the state turns non-physical or the run is interrupted.
+    """
+    if unknown:
+        raise InputError(f"method hybrid has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
+    if scene.obstacles:
+        raise InputError(f"method hybrid runs scenes without obstacles; {scene.name} has {len(scene.obstacles)}.")
+    settings = {
+        "method": "hybrid", "dx": positive("dx", scene.dx if dx is None else dx),
+        "beta": in_range("beta", beta, 0.0, 1.0, lo_open=True), "threshold": positive("threshold", threshold),
+        "buffer": integer("buffer", buffer, 0), "cfl": check_cfl(cfl),
+        "cfl_sph": in_range("cfl_sph", cfl_sph, 0.0, 1.0, lo_open=True),
+        "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)), "eta": in_range("eta", eta, 1.0, 8.0),
+        "alpha_max": in_range("alpha_max", alpha_max, 0.0, 10.0), "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0),
+        "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0), "limiter": choice("limiter", limiter, tuple(LIMITERS)),
+        "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
+        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
+    }
+    per_cell = int(round(1.0 / settings["beta"]))
+    if abs(per_cell * settings["beta"] - 1.0) > 1e-9 or per_cell > 16:
+        raise InputError(f"beta must be 1/k for a whole k from 1 to 16 (particles per cell width); got {beta}.")
+    dx, t_end = settings["dx"], settings["t_end"]
+    grid = solver_grid(scene.domain, dx * per_cell)
+    U = initial_state(scene, grid)
+    stepper = Stepper(scheme_for(scene, grid, settings["cfl"], limiter, riemann))
+    lo, hi = np.array([a for a, _ in scene.domain]), np.array([b for _, b in scene.domain])
+    region = [(a, b) for a, b in zip(lo, hi)]
+    open_ = tuple(side for side in scene.sides if scene.boundaries[side] == "outflow")
+    sph = GasSPH(scene, kernel, eta, region, open_)
+    coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings["threshold"], settings["buffer"],
+                        Switches(alpha_max, alpha_min, alpha_u), settings["cfl_sph"])
+    t0 = _time.perf_counter()
+    compile_seconds = stepper.compile(U, inflow_states(scene, 0.0))
+    # (the first evaluation compiles, or loads, the SPH kernels)
+    S = coupling.regrouped(U, None, np.zeros((0, scene.dim)), np.zeros(0), np.zeros(coupling.n_cells, bool))
+    if S.P is not None:
+        sph.compile_rest(S.P, S.E)
+    compile_seconds = _time.perf_counter() - t0
+    probe_points = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim]
+    probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
+    run = _Run(scene, coupling, settings, compile_seconds,
+               History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim))
+    run.totals0 = totals_of(U, coupling.volume)
+    bar = run.progress_bar(0.0, t_end, progress)
+
+    def advance(S, t, t_out, dt_cfl):
+        dt = min(dt_cfl, t_out - t)
+        S_new, dt_cfl, forces = coupling.step(S, t, dt)
+        if not np.isfinite(dt_cfl):
+            return S, t, dt_cfl, None, forces, 0
+        probes = interpolated(coupling.primitive(S_new.U)[-1:], probe_stencil)[0][: len(scene.probes)]
+        run.totals = totals_of(S_new.U, coupling.volume)
+        return S_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
+
+    def diagnose(S, t, step, dt):
+        return coupling.error or f"hybrid's grid step turned the state non-physical at t = {t:.6g} s (step {step})."
+
+    ckpt = checkpoint_for(scene, "hybrid", settings)
+    return march(run, S, 0.0, float(stepper.initial_dt(U)), t_end, advance, diagnose, ckpt, bar)
+
+
+def totals_of(U, volume: float) -> np.ndarray:
+    """Mass, momentum and energy on the grid (per metre depth in 2D)."""
+    return np.array([float(jnp.sum(a)) * volume for a in U])
+
+
+class _Run(RunRecord):
+    """The record of one hybrid run: frames are the grid's fields on the
+    output grid, with the particles' (Shepard interpolation) where they own
+    the cells."""
+
+    def __init__(self, scene, coupling, settings, compile_seconds, history):
+        super().__init__(scene, "hybrid", settings, compile_seconds, history)
+        self.coupling = coupling
+        self.totals0 = self.totals = None
+        out = scene.output
+        points = np.stack(np.meshgrid(*([out.x] if scene.dim == 1 else [out.x, out.y])), axis=-1).reshape(-1, scene.dim)
+        #: the grid cell of every output point, in the output layout
+        self.out_cell = cell_of(points, coupling.lo, coupling.cell, coupling.shape)
+
+    def fields(self, S: State) -> dict:
+        scene, c = self.scene, self.coupling
+        W = c.primitive(S.U)
+        values = {"rho": W[0], "u": W[1], "p": W[-1], "e": W[-1] / ((scene.gamma - 1.0) * W[0])}
+        if scene.dim == 2:
+            values["v"] = W[2]
+        src = cell_centres(c.grid)
+        out = scene.output
+        pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
+        grids = np.stack([to_output_grid(values[f], *pairs, periodic=c.periodic)[0] for f in scene.fields])
+        if S.P is not None:
+            P, E = S.P, S.E
+            particle = {"rho": E.rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * E.rho * P.u, "e": P.u}
+            if scene.dim == 2:
+                particle["v"] = P.v[:, 1]
+            axes = (out.x,) if scene.dim == 1 else (out.x, out.y)
+            sph = c.sph.interpolate(P, E, np.stack([particle[f] for f in scene.fields]), axes)
+            where = S.owned[self.out_cell].reshape(grids.shape[1:])
+            grids = np.where(where & np.isfinite(sph), sph, grids)
+        return dict(zip(scene.fields, grids))
+
+    def output(self):
+        s, c = self.settings, self.coupling
+        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        scheme = (f"hybrid: unsplit MUSCL-Hancock ({s['limiter']}, {s['riemann'].upper()}) on cells "
+                  f"{c.cell[0]:g} m wide; grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d), Cullen-Dehnen "
+                  f"viscosity, conduction) at spacing {s['dx']:g} m in the cells where rho or p jumps by more than "
+                  f"{s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
+                  "particles matched to the grid's flux and deposited back (cloud-in-cell, conservative)")
+        attrs = {"fv_cells": c.n_cells, "particles_max": c.most_particles, "sph_substeps": c.substeps,
+                 "particle_steps": c.particle_steps,
+                 "deposition": "grid fields linearly interpolated; Shepard interpolation of the particles "
+                               "in the cells that hold them"}
+        if all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides) \
+                and self.totals is not None:
+            (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
+            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
+        return fields, None, scheme, c.n_cells + c.most_particles, attrs

@@ -1,0 +1,164 @@
+"""Hybrid finite-volume – SPH (method ``hybrid``): its pieces and the coupled
+system against conservation, exact solutions and pure SPH."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import cases
+from cases.errors import InputError
+from compare.metrics import field_error
+from hybrid.cells import cell_of, dilated, flagged, lattice, relative_jumps, ring
+from hybrid.exchange import cloud, deposited, interpolated, matched
+
+SOD = cases.get("sod")
+
+
+def test_jumps_flag_the_cells_on_both_sides_of_a_step_and_the_buffer_around():
+    rho = np.where(np.arange(40) < 20, 1.0, 0.5)
+    p = np.ones(40)
+    assert relative_jumps(rho, (False, False))[[18, 19, 20, 21]].tolist() == [0.0, 1.0, 1.0, 0.0]
+    owned = flagged(rho, p, 0.1, 3, (False, False))
+    assert np.flatnonzero(owned).tolist() == list(range(16, 24))
+
+
+def test_jumps_wrap_around_periodic_axes_only():
+    rho = np.ones((4, 10))
+    rho[:, 0] = 2.0  # a jump between the last column and the first across the periodic side
+    periodic = relative_jumps(rho, (True, False))
+    closed = relative_jumps(rho, (False, False))
+    assert periodic[0, -1] == 1.0 and closed[0, -1] == 0.0
+    assert periodic[0, 1] == closed[0, 1] == 1.0
+
+
+def test_ring_surrounds_the_region_with_diagonals_and_wraps():
+    inner = np.zeros((7, 7), bool)
+    inner[3, 3] = True
+    assert ring(inner, 1, (False, False)).sum() == 8
+    assert ring(inner, 2, (False, False)).sum() == 24
+    edge = np.zeros((5, 6), bool)
+    edge[2, 0] = True
+    grown = dilated(edge, 1, (True, False))
+    assert grown[2, 5] and grown[1, 5] and not grown[2, 2]
+
+
+def test_the_injection_lattice_fills_each_cell_evenly():
+    lo, dx, shape = np.array([0.0, -1.0]), np.array([0.1, 0.1]), (8, 5)
+    cells = np.array([0, 9, 39])
+    x, owner = lattice(cells, lo, dx, shape, 4)
+    assert x.shape == (48, 2)
+    assert np.array_equal(cell_of(x, lo, dx, shape), owner)
+    for c in cells:  # a 4×4 lattice centred in its cell
+        pts = x[owner == c]
+        corner = lo + dx * np.array([c % 8, c // 8])
+        assert np.allclose(np.sort(np.unique(np.round((pts[:, 0] - corner[0]) / 0.025, 9))), [0.5, 1.5, 2.5, 3.5])
+        assert np.allclose(pts.mean(axis=0), corner + 0.05)
+
+
+def _particles(n, dim, seed=0):
+    from particle.sph.solve import Particles
+
+    rng = np.random.default_rng(seed)
+    return Particles(x=rng.uniform(0.0, 1.0, (n, dim)), v=rng.normal(0.0, 1.0, (n, dim)), u=rng.uniform(1.0, 2.0, n),
+                     m=rng.uniform(0.5, 1.5, n), H=np.full(n, 0.1), alpha=np.zeros(n), alpha_u=np.zeros(n),
+                     rho=np.ones(n))
+
+
+def test_deposit_puts_the_owned_part_of_every_cloud_on_the_grid():
+    import gridref.grid as gg
+
+    grid = gg.solver_grid(((0.0, 1.0), (0.0, 1.0)), 0.1)
+    P = _particles(500, 2)
+    owned = np.zeros(100, bool)
+    owned[[12, 13, 14, 22, 23, 24, 55]] = True
+    weights = cloud(gg.bilinear_stencil(grid, P.x), owned)
+    D = deposited(weights, P.m, P.v, P.u, 100, 0.01)
+    share = weights[1].sum(axis=1)
+    assert np.all(D[:, ~owned] == 0.0)
+    expected = [P.m @ share, *((P.m * share) @ P.v), (P.m * share) @ (P.u + 0.5 * np.sum(P.v ** 2, axis=1))]
+    assert np.allclose(D.sum(axis=1) * 0.01, expected, rtol=1e-13)
+    everywhere = deposited(cloud(gg.bilinear_stencil(grid, P.x), np.ones(100, bool)), P.m, P.v, P.u, 100, 0.01)
+    assert everywhere[0].sum() * 0.01 == pytest.approx(P.m.sum(), rel=1e-14)
+
+
+def test_matching_reaches_the_totals_to_round_off_and_keeps_energies_positive():
+    P = _particles(300, 2, seed=1)
+    share = np.random.default_rng(2).uniform(0.3, 1.0, 300)
+    held = lambda Q: np.array([Q.m @ share, *((Q.m * share) @ Q.v),  # noqa: E731
+                               (Q.m * share) @ (Q.u + 0.5 * np.sum(Q.v ** 2, axis=1))])
+    target = held(P) * np.array([1.003, 1.0, 1.0, 0.998]) + np.array([0.0, 0.5, -0.2, 0.0])
+    Q = matched(P, share, target)
+    assert np.allclose(held(Q), target, rtol=1e-13, atol=1e-12)
+    assert np.all(Q.u > 0) and np.allclose(Q.m / P.m, Q.m[0] / P.m[0])
+    with pytest.raises(FloatingPointError, match="internal energy"):
+        matched(P, share, target * np.array([1.0, 1.0, 1.0, 1e-3]))
+
+
+def test_interpolation_is_exact_for_a_linear_field():
+    import gridref.grid as gg
+
+    grid = gg.solver_grid(((0.0, 1.0), (0.0, 2.0)), 0.1)
+    X, Y = gg.mesh(grid)
+    W = np.stack([1.0 + 2.0 * X - 3.0 * Y, 0.5 * X])
+    points = np.random.default_rng(3).uniform([0.05, 0.05], [0.95, 1.95], (50, 2))
+    values = interpolated(W, gg.bilinear_stencil(grid, points))
+    assert np.allclose(values[0], 1.0 + 2.0 * points[:, 0] - 3.0 * points[:, 1])
+    assert np.allclose(values[1], 0.5 * points[:, 0])
+
+
+@pytest.fixture(scope="module")
+def sedov_hybrid():
+    return cases.run(cases.get("sedov", n_out=128, t_end=0.1), "hybrid", progress=False)
+
+
+def test_hybrid_conserves_mass_and_energy_in_a_closed_box(sedov_hybrid):
+    ds = sedov_hybrid
+    assert ds.attrs["mass_drift"] < 1e-12 and ds.attrs["energy_drift"] < 1e-12
+    assert ds.attrs["particles_max"] > 0 and ds.attrs["sph_substeps"] > ds.attrs["n_steps"]
+
+
+def test_hybrid_sedov_shock_radius_follows_sedov_taylor(sedov_hybrid):
+    ds = sedov_hybrid
+    exact = cases.get("sedov", n_out=128, t_end=0.1).exact(ds.time.values[-1:])
+    r = np.hypot(*np.meshgrid(ds.x.values, ds.y.values))
+    rho = ds.rho.isel(time=-1).values
+    rho_exact = exact.rho.isel(time=-1).values
+    # radius of the density peak, averaged over angle, against the exact shock radius
+    peak = np.average(r, weights=np.where(rho > 0.5 * rho.max(), rho, 0.0))
+    peak_exact = np.average(r, weights=np.where(rho_exact > 0.5 * rho_exact.max(), rho_exact, 0.0))
+    assert abs(peak / peak_exact - 1.0) < 0.05
+
+
+def test_hybrid_sod_density_error_is_within_a_fifth_of_pure_sph_at_the_same_spacing():
+    dx = 1 / 800
+    errors = {}
+    for method in ("hybrid", "sph"):
+        ds = cases.run(SOD, method, dx=dx, progress=False)
+        errors[method] = field_error(ds.rho.isel(time=-1), SOD.exact(ds.time.values).rho.isel(time=-1))
+    assert errors["hybrid"] <= 1.2 * errors["sph"]
+    assert errors["hybrid"] < 5e-3
+
+
+def test_hybrid_sod_holds_particles_only_near_the_waves():
+    ds = cases.run(SOD, "hybrid", dx=1 / 800, progress=False)
+    # the grid has 200 cells of 4 particles: the waves span about 0.6 of the tube at t = 0.2
+    assert ds.attrs["particles_max"] < 0.75 * 800
+    assert ds.attrs["dx"] == pytest.approx(1 / 800) and ds.attrs["fv_cells"] == 200
+
+
+@pytest.mark.parametrize("settings, words", [
+    (dict(beta=0.3), "beta must be 1/k"),
+    (dict(threshold=0.0), "threshold"),
+    (dict(buffer=-1), "buffer"),
+    (dict(cfl_sph=1.5), "cfl_sph"),
+    (dict(smoothing=2), "no setting 'smoothing'"),
+])
+def test_hybrid_refuses_bad_settings_in_one_sentence(settings, words):
+    with pytest.raises(InputError, match=words):
+        cases.run(SOD, "hybrid", progress=False, **settings)
+
+
+def test_hybrid_refuses_scenes_with_obstacles():
+    with pytest.raises(InputError, match="without obstacles"):
+        cases.run(cases.get("blast_array", one_period=True), "hybrid", progress=False)
