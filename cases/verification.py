@@ -8,7 +8,7 @@ from cases import checks
 from cases.errors import InputError
 from cases.registry import scene_builder
 from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from cases.shapes import Circle, Polygon
+from cases.shapes import Circle, Polygon, disc_fraction
 from compare import exact, metrics
 
 #: Toro (2009) Table 4.1 states usable through ``sod``'s ``preset``:
@@ -165,13 +165,7 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
         """Energy E deposited uniformly over the disc r < max(r_init, 2 dx),
         weighted by each cell's covered fraction (8×8 sub-samples) and
         normalised so the deposited total is exactly E."""
-        r0 = max(r_init, 2.0 * dx)
-        sub = (np.arange(8) + 0.5) / 8 - 0.5
-        sx, sy = np.meshgrid(sub * dx, sub * dx)
-        near = np.hypot(x, y) < r0 + dx
-        inside = (np.hypot(x[near][:, None] + sx.ravel(), y[near][:, None] + sy.ravel()) < r0).mean(axis=1)
-        fraction = np.zeros_like(x)
-        fraction[near] = inside
+        fraction = disc_fraction(x, y, max(r_init, 2.0 * dx), dx)
         p = p0 + (gamma - 1.0) * E * fraction / (fraction.sum() * dx * dx)
         return rho0, 0.0, 0.0, p
 

@@ -449,11 +449,34 @@ def shock_radius(
         for a field that is not 2D, a bad centre or bin width, an unknown
         method, or a level outside the ring profile's range.
     """
+    if method not in ("gradient", "threshold"):
+        raise ValueError(f"method must be 'gradient' or 'threshold', got {method!r}.")
+    rbar, vbar, rr, vv = _rings(field2d, centre, bin_width)
+    if method == "gradient":
+        return _shock_on_profile(rbar, vbar, "gradient", None, +1)
+    if level is None:
+        if ambient is None:
+            ambient = float(np.median(vv[rr >= 0.9 * rr.max()]))
+        ambient = number("ambient", ambient)
+        level = ambient + 0.5 * (float(vbar.max()) - ambient)
+    return _shock_on_profile(rbar, vbar, "threshold", level, +1, name="ring-averaged profile")
+
+
+def ring_profile(field2d: xr.DataArray, centre: tuple[float, float] = (0.0, 0.0),
+                 bin_width: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The azimuthal average of a 2D (y, x) field about ``centre`` in rings of
+    width ``bin_width`` (default: the larger cell spacing): mean radius r̄_k
+    and mean value v̄_k of the finite cells of each ring that holds any (a
+    ring cut by the domain keeps the cells inside it)."""
+    rbar, vbar, _, _ = _rings(field2d, centre, bin_width)
+    return rbar, vbar
+
+
+def _rings(field2d, centre, bin_width):
+    """``(r̄, v̄)`` of :func:`ring_profile` and the radii and values of the finite cells."""
     f = _require_dataarray("field2d", field2d)
     if f.ndim != 2 or not {"x", "y"} <= set(f.dims):
         raise ValueError(f"field2d must be a 2D field on (y, x), got dims {f.dims}.")
-    if method not in ("gradient", "threshold"):
-        raise ValueError(f"method must be 'gradient' or 'threshold', got {method!r}.")
     xc, yc = _pair("centre", centre, "(x, y)")
     f = f.transpose("y", "x")
     x, y = _coord(f, "x"), _coord(f, "y")
@@ -478,14 +501,7 @@ def shock_radius(
     vbar = np.bincount(k, weights=vv)[used] / n[used]
     if rbar.size < 3:
         raise ValueError("field2d covers fewer than 3 rings about centre; check centre and bin_width.")
-    if method == "gradient":
-        return _shock_on_profile(rbar, vbar, "gradient", None, +1)
-    if level is None:
-        if ambient is None:
-            ambient = float(np.median(vv[rr >= 0.9 * rr.max()]))
-        ambient = number("ambient", ambient)
-        level = ambient + 0.5 * (float(vbar.max()) - ambient)
-    return _shock_on_profile(rbar, vbar, "threshold", level, +1, name="ring-averaged profile")
+    return rbar, vbar, rr, vv
 
 
 # ---------------------------------------------------------------------------

@@ -35,13 +35,17 @@ from particle.sph.particles import (
     outflow_reach,
     place_1d,
     place_2d,
+    place_lattice,
 )
 from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import in_box, virtual_state, walls
 
-SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "t_end", "progress", "particles",
+SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "masses", "t_end", "progress", "particles",
             *CHECKPOINT_SETTINGS)
+#: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
+#: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take)
+MASSES = ("equal", "lattice")
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: the growth of a support the inflow buffer's depth and the outflow margin allow for
@@ -218,12 +222,13 @@ class GasSPH:
 
 
 def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
-          t_end=None, progress=True, particles=None, checkpoint=None, checkpoint_every=600.0, resume=False,
+          masses="equal", t_end=None, progress=True, particles=None, checkpoint=None, checkpoint_every=600.0, resume=False,
           **unknown):
     """Run ``scene`` with compressible SPH.
 
     ``dx`` is the initial particle spacing in the densest gas (equal-mass
-    particles), ``eta`` the support radius in units of the local spacing
+    particles, ``masses="equal"``) or everywhere (``masses="lattice"``:
+    the square lattice, masses ρ dx^d), ``eta`` the support radius in units of the local spacing
     (H = η (m/ρ)^(1/d); η = 4 gives H = 4Δx), ``alpha_max``/``alpha_min``
     bound the Cullen–Dehnen viscosity, ``alpha_u`` is the ceiling of the
     conduction coefficient's switch. ``particles``: a path to write the particle snapshot of
@@ -244,15 +249,18 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True), "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)),
         "eta": in_range("eta", eta, 1.0, 8.0), "alpha_max": in_range("alpha_max", alpha_max, 0.0, 10.0),
         "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0), "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0),
+        "masses": choice("masses", masses, MASSES),
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
+    if masses == "lattice" and _has_inlet(scene):
+        raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
     check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     switches = Switches(alpha_max, alpha_min, alpha_u)
     reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
-    P = _initial_particles(scene, dx, eta, alpha_min, box)
+    P = _initial_particles(scene, dx, eta, alpha_min, box, masses)
     inflow = _inflow_buffer(scene, P, eta)
     # virtual particles reach twice the initial support into the solids
     sph = GasSPH(scene, kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
@@ -361,15 +369,19 @@ def _totals(P: Particles) -> tuple[float, float]:
     return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
-def _initial_particles(scene, dx, eta, alpha_min, box) -> Particles:
-    """Equal-mass particles over ``box`` (the domain extended beyond outflow
-    sides) with the scene's initial state."""
+def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Particles:
+    """Particles over ``box`` (the domain extended beyond outflow sides) with
+    the scene's initial state: equal masses, or on the lattice of spacing
+    ``dx`` with masses ρ dx^d (``masses="lattice"``)."""
     gamma, dim = scene.gamma, scene.dim
-    x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
+    if masses == "lattice":
+        x, mass = place_lattice(scene, dx, box)
+    else:
+        x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
-    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.full(n, mass),
+    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.broadcast_to(mass, n).copy(),
                      H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
                      rho=rho)
 
