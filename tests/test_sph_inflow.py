@@ -38,16 +38,34 @@ def test_the_mass_entering_is_the_imposed_mass_flux_to_within_one_column(dim):
     # keeps its spacing lets in the density of the past (1.7 % too much mass in the first 0.5 ms of
     # blast_wall at dx = 1 mm); the mass-flux lattice lets in ∫ ρ u dt
     inflow = buffer_with(pulsing, dim)
-    dt, entered, column = 2e-4, 0, MASS / inflow.dy
+    width = inflow.width
+    dt, entered = 2e-4, 0
     for k in range(1000):
         x = inflow.advance(k * dt, dt)
         u = pulsing((k + 1) * dt)[1]
         # new fluid particles are inside the domain, within one step's travel of the inlet
         assert np.all((x[:, 0] >= 0.0) & (x[:, 0] <= 1.05 * u * dt))
         entered += x.shape[0]
-        exact = pulsing_mass_flux_integral((k + 1) * dt) / column  # in columns
-        assert abs(entered / len(inflow.column_y) - exact) <= 0.5 + 1e-6
-    assert entered / len(inflow.column_y) > 10  # (15 columns in 2D, 600 in 1D)
+        column = inflow.column_mass(pulsing((k + 1) * dt)[0])
+        exact = pulsing_mass_flux_integral((k + 1) * dt)
+        assert abs(entered * MASS / width - exact) <= 0.5 * column + 1e-12
+    assert entered * MASS / width > 10 * inflow.column_mass(3.0)  # (over 10 columns)
+
+
+def test_the_2d_layer_stays_square_as_the_boundary_density_changes():
+    # rows and columns sqrt(m/ρ) apart at the density of the moment (the rows fitted to the width),
+    # so a gas that thins at the inlet keeps as many columns within a support as rows
+    scene = types.SimpleNamespace(boundaries={"x_lo": Inflow(pulsing, "test")}, domain=((0.0, 1.0), (0.0, 0.1)),
+                                  dim=2, gamma=1.4)
+    mass = 1e-5
+    inflow = InflowBuffer(scene, "x_lo", mass, 0.05)
+    for t in (0.0, 0.025, 0.075):
+        rho = pulsing(t)[0]
+        x = inflow.particles(t, 4.0)[0]
+        columns, rows = np.unique(np.round(x[:, 0], 12)), np.unique(np.round(x[:, 1], 12))
+        dx, dy = np.diff(columns), np.diff(rows)
+        assert np.allclose(dx * dy[0], mass / rho, rtol=1e-9)  # each particle holds its volume m/ρ
+        assert abs(dx[0] / dy[0] - 1.0) < 2.0 / rows.size
 
 
 def test_the_layer_is_a_lattice_at_the_boundary_density_as_deep_as_asked():

@@ -294,7 +294,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         sph.counters = saved["counters"]
         sph.verlet.forget()
         if inflow:
-            inflow.inflowed, inflow.adjacent = saved["inflow"]
+            inflow.inflowed, inflow.entered, inflow.adjacent = saved["inflow"]
     bar = run.progress_bar(t, t_end, progress)
     with ckpt.watching_signals():
         try:
@@ -333,7 +333,8 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                     ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
                                                     "reflections": run.reflections, "totals0": run.totals0,
                                                     "counters": sph.counters,
-                                                    "inflow": (inflow.inflowed, inflow.adjacent) if inflow else None},
+                                                    "inflow": (inflow.inflowed, inflow.entered, inflow.adjacent)
+                                                    if inflow else None},
                                    lambda: run.fields(P, E))
                 run.add_frame(run.fields(P, E), t)
         finally:
