@@ -153,7 +153,8 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
 
     Runs not finished are left out of the tables (listed as missing).
     ``seconds`` (run name -> seconds) adds the wall time the runs took
-    here to the table's ``wall_seconds`` (solver time) as ``run_seconds``."""
+    here to the table's ``wall_seconds`` (solver time) as ``run_seconds``
+    (NaN for a run not made now)."""
     from compare import plots
     from compare.io import read
     from compare.report import rank_correlation, ranking, wall_load_table, write_table
@@ -177,7 +178,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
         raise InputError(f"no finished runs of the study in {str(output / 'runs')!r}.")
     table = wall_load_table(runs, labels)
     table.insert(1, "blast", blasts)
-    if seconds:
+    if seconds is not None:
         table["run_seconds"] = [seconds.get(n, float("nan")) for n in names]
     write_table(table, output, "wall_loads")
     impulse = "wall_impulse_final"
