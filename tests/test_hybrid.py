@@ -1,7 +1,6 @@
 """Hybrid finite-volume – SPH (method ``hybrid``): its pieces and the coupled
 system against conservation, exact solutions and pure SPH."""
 
-import dataclasses
 
 import numpy as np
 import pytest
