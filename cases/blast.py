@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from cases import checks, shapes
-from cases.shapes import disc_fraction
+from cases.shapes import disc_density, disc_fraction
 from cases.registry import scene_builder
 from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
 from compare import exact, metrics
@@ -224,12 +224,12 @@ def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, ha
     domain = ((0.0, L), (0.0, L))
 
     def initial(x, y, dx):
-        """The cylinder's cells weighted by their covered fraction (8×8
-        sub-samples): density ρ0 + (ρ_c − ρ0) f, and the quadrant's quarter
-        of the yield spread over them so the total is exact."""
-        fraction = disc_fraction(x, y, r_c, dx)
-        rho = rho0 + (rho_c - rho0) * fraction
-        p = p0 + (gamma - 1.0) * 0.25 * energy * fraction / (fraction.sum() * dx * dx)
+        """The cylinder's cells weighted by their covered fraction f (8×8
+        sub-samples): density ρ0 + (ρ_c − ρ0) f, and the yield spread over
+        the cylinder in proportion to f (:func:`disc_density`), so the
+        quadrant holds a quarter of it exactly on a lattice of side dx."""
+        rho = rho0 + (rho_c - rho0) * disc_fraction(x, y, r_c, dx)
+        p = p0 + (gamma - 1.0) * energy * disc_density(x, y, r_c, dx)
         return rho, 0.0, 0.0, p
 
     times = tuple(f * t_end for f in (0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0))

@@ -848,3 +848,17 @@ def disc_fraction(x, y, radius: float, dx: float) -> np.ndarray:
     fraction = np.zeros(np.broadcast(x, y).shape)
     fraction[near] = (np.hypot(x[near][:, None] + sx.ravel(), y[near][:, None] + sy.ravel()) < radius).mean(axis=1)
     return fraction
+
+
+def disc_density(x, y, radius: float, dx: float) -> np.ndarray:
+    """A deposit spread over the disc of ``radius`` at the origin, per unit
+    area and per unit of the total: :func:`disc_fraction` divided by its
+    integral Σ f dx² over the lattice of cells of side ``dx`` with edges
+    on the axes. On such a lattice (or any part of it: a quadrant) the
+    deposit sums to the total to round-off; the value at a point depends on
+    that point alone, so a subset of points (a boundary sample, particles
+    laid out in pieces) gets the same values."""
+    n = int(np.ceil(radius / dx)) + 1
+    centres = (np.arange(-n, n) + 0.5) * dx
+    area = disc_fraction(*np.meshgrid(centres, centres), radius, dx).sum() * dx * dx
+    return disc_fraction(x, y, radius, dx) / area

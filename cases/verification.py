@@ -8,7 +8,7 @@ from cases import checks
 from cases.errors import InputError
 from cases.registry import scene_builder
 from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from cases.shapes import Circle, Polygon, disc_fraction
+from cases.shapes import Circle, Polygon, disc_density
 from compare import exact, metrics
 
 #: Toro (2009) Table 4.1 states usable through ``sod``'s ``preset``:
@@ -164,9 +164,9 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
     def initial(x, y, dx):
         """Energy E deposited uniformly over the disc r < max(r_init, 2 dx),
         weighted by each cell's covered fraction (8×8 sub-samples) and
-        normalised so the deposited total is exactly E."""
-        fraction = disc_fraction(x, y, max(r_init, 2.0 * dx), dx)
-        p = p0 + (gamma - 1.0) * E * fraction / (fraction.sum() * dx * dx)
+        normalised so the deposited total is exactly E on a lattice of side
+        dx with edges on the axes (:func:`~cases.shapes.disc_density`)."""
+        p = p0 + (gamma - 1.0) * E * disc_density(x, y, max(r_init, 2.0 * dx), dx)
         return rho0, 0.0, 0.0, p
 
     output = OutputGrid(domain=domain, shape=(n_out, n_out), times=(0.0, 0.25 * t_end, 0.5 * t_end, t_end),
