@@ -206,16 +206,20 @@ KILOTON = 4.184e12
 
 
 @scene_builder("blast_kt")
-def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, half_width=60.0, t_end=1e-3,
+def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, half_width=None, t_end=1e-3,
              n_out=300):
     """A large planar (cylindrical) explosion in air: a cylinder of radius
     ``r_c`` of dense hot gas (``rho_c``) holding ``kt`` kilotons of TNT per
     metre of depth; one quadrant [0, half_width]² is computed, with
     symmetry walls on the axes and open outer sides, at full size from the
-    start (the shock stays inside it to 1 ms)."""
+    start. ``half_width`` defaults to 60 m × kt^(1/4), rounded up to 10 m
+    (the Sedov–Taylor radius grows as E^(1/4) t^(1/2): the shock of 1 kt
+    is at 40 m at 1 ms, and of 10 kt at 72 m in a quadrant of 110 m)."""
     kt, r_c, rho_c = checks.positive("kt", kt), checks.positive("r_c", r_c), checks.positive("rho_c", rho_c)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
+    if half_width is None:
+        half_width = 10.0 * np.ceil(6.0 * kt ** 0.25 - 1e-9)
     L, t_end = checks.positive("half_width", half_width), checks.positive("t_end", t_end)
     n_out = checks.integer("n_out", n_out, 16)
     if not r_c < 0.5 * L:

@@ -2,8 +2,8 @@
 
 The hybrid method (Myers, Musk, Palmer & Palmer 2024, Front. Phys. 11,
 1325294) puts SPH particles only in the cells that need them: those where
-density or pressure jumps by more than a threshold between face
-neighbours, widened by a buffer of cells (:func:`flagged`); a ring of
+density or pressure (or pressure alone: shocks, not contacts) jumps by
+more than a threshold between face neighbours, widened by a buffer of cells (:func:`flagged`); a ring of
 cells around them holds the boundary particles (:func:`ring`). Particles
 are laid out on the injection map of a cell, a square lattice of
 ``per_cell`` points per axis (:func:`lattice`).
@@ -43,10 +43,11 @@ def dilated(mask: np.ndarray, cells: int, periodic) -> np.ndarray:
     return grown[tuple(slice(lo, grown.shape[k] - hi) for k, (lo, hi) in enumerate(pad))]
 
 
-def flagged(rho: np.ndarray, p: np.ndarray, threshold: float, buffer: int, periodic) -> np.ndarray:
-    """The cells that get particles: a relative jump of density or pressure
-    to a face neighbour above ``threshold``, plus ``buffer`` cells around."""
-    steep = np.maximum(relative_jumps(rho, periodic), relative_jumps(p, periodic)) > threshold
+def flagged(fields, threshold: float, buffer: int, periodic) -> np.ndarray:
+    """The cells that get particles: a relative jump of any of ``fields``
+    (positive, e.g. density and pressure) to a face neighbour above
+    ``threshold``, plus ``buffer`` cells around."""
+    steep = np.maximum.reduce([relative_jumps(a, periodic) for a in fields]) > threshold
     return dilated(steep, buffer, periodic)
 
 

@@ -8,8 +8,9 @@
   edge of the particle region is not biased by the clouds cut there.
 * :func:`matched`: the fluid particles changed so that the parts of their
   clouds on the particle cells hold given totals — mass by a common
-  factor, momentum by a common velocity shift, internal energy by a common
-  factor (which keeps it positive). The grid's finite-volume step fixes
+  factor, momentum by a common velocity shift (not across a wall the
+  particle cells meet), internal energy by a common factor (which keeps
+  it positive). The grid's finite-volume step fixes
   what the particle cells must hold after a step (their content before
   plus the flux through their edge); matching the particles to it (less
   the boundary particles' part) makes the coupled system conserve to
@@ -43,18 +44,22 @@ def deposited(weights, m, v, u, n_cells: int, volume: float) -> np.ndarray:
     return np.stack([np.bincount(flat, (w * q[:, None]).ravel(), n_cells) for q in per_particle]) / volume
 
 
-def matched(P, share: np.ndarray, target: np.ndarray):
+def matched(P, share: np.ndarray, target: np.ndarray, axes=None):
     """The particles ``P`` (fields ``m``, ``v``, ``u``) changed so that the
     parts of them that ``share`` (per particle, in (0, 1]) counts hold the
     totals ``target`` (mass, momentum, total energy) exactly: masses times
-    a common factor, then velocities shifted by a common vector, then
-    internal energies times a common factor (so they stay positive).
-    Raises ``FloatingPointError`` if the internal energy left would not be
-    positive."""
+    a common factor, then velocities shifted by a common vector along
+    ``axes`` (bool per axis; default all), then internal energies times a
+    common factor (so they stay positive). Along an axis left out the
+    particles keep their momentum: where the region meets a wall across
+    that axis, the grid's and the particles' walls push differently and
+    neither total is the other's to match. Raises ``FloatingPointError``
+    if the internal energy left would not be positive."""
     d = P.v.shape[1]
     m = P.m * (target[0] / float(P.m @ share))
     ms = m * share
-    v = P.v + (target[1:1 + d] - ms @ P.v) / target[0]
+    shift = (target[1:1 + d] - ms @ P.v) / target[0]
+    v = P.v + (shift if axes is None else np.where(axes, shift, 0.0))
     internal = target[-1] - 0.5 * float(ms @ np.sum(v * v, axis=1))
     if not internal > 0.0:
         raise FloatingPointError(f"the particle region's internal energy would be {internal:.3g} after matching "
