@@ -84,7 +84,7 @@ class RunRecord(ABC):
     def __init__(self, scene, method: str, settings: dict, compile_seconds: float, history: History):
         self.scene, self.method, self.settings = scene, method, settings
         self.compile_seconds, self.history = compile_seconds, history
-        self.frames, self.frame_times, self.n_steps = [], [], 0
+        self.frames, self.frame_times, self.frame_seconds, self.n_steps = [], [], [], 0
         self.t_start = _time.perf_counter()
         #: (state, time) that a step which turned the state non-physical produced, for the diagnosis
         self.failed_step = None
@@ -99,19 +99,23 @@ class RunRecord(ABC):
                                             "[{elapsed}<{remaining}] {postfix}")
 
     def add_frame(self, fields: dict, t: float) -> None:
-        """Keep the fields (name -> array) of output time ``t``."""
+        """Keep the fields (name -> array) of output time ``t``, and the wall
+        time the run had taken to reach it."""
         self.frames.append(fields)
         self.frame_times.append(t)
+        self.frame_seconds.append(_time.perf_counter() - self.t_start)
 
     def saved(self) -> dict:
         """What a checkpoint keeps of the record (frames, history, steps,
         wall time so far)."""
-        return {"frames": self.frames, "frame_times": self.frame_times, "n_steps": self.n_steps,
+        return {"frames": self.frames, "frame_times": self.frame_times, "frame_seconds": self.frame_seconds,
+                "n_steps": self.n_steps,
                 "history": self.history, "wall": _time.perf_counter() - self.t_start}
 
     def restore(self, saved: dict) -> None:
         """Continue the record :meth:`saved` returned (its wall time counts)."""
         self.frames, self.frame_times = saved["frames"], saved["frame_times"]
+        self.frame_seconds = saved.get("frame_seconds", [np.nan] * len(self.frame_times))
         self.n_steps, self.history = saved["n_steps"], saved["history"]
         self.t_start = _time.perf_counter() - saved["wall"]
 
@@ -140,7 +144,7 @@ class RunRecord(ABC):
             t_probe=t_probe if series else None, series=series,
             parameters={"scene": scene.to_dict(), "solver": self.settings},
             dx=self.settings["dx"], n_elements=n_elements, n_steps=self.n_steps, wall_seconds=wall,
-            compile_seconds=self.compile_seconds, **attrs,
+            compile_seconds=self.compile_seconds, frame_seconds=np.asarray(self.frame_seconds), **attrs,
         )
 
     @abstractmethod

@@ -61,6 +61,12 @@ def test_parameters_repeat_the_run(scene, run_result):
     assert rebuilt.to_dict() == scene.to_dict()
 
 
+def test_run_records_the_wall_time_it_took_to_reach_each_output_time(run_result):
+    seconds = np.asarray(run_result.attrs["frame_seconds"])
+    assert seconds.shape == run_result.time.shape
+    assert np.all(np.diff(seconds) > 0.0) and 0.0 <= seconds[0] and seconds[-1] <= run_result.attrs["wall_seconds"]
+
+
 def test_round_trip_through_netcdf(tmp_path, run_result):
     path = write(run_result, tmp_path / "sod.nc")
     assert path.is_file()
@@ -69,6 +75,8 @@ def test_round_trip_through_netcdf(tmp_path, run_result):
     for key, value in run_result.attrs.items():
         if isinstance(value, float):
             assert back.attrs[key] == pytest.approx(value, rel=0, abs=0), key
+        elif isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(back.attrs[key], value, err_msg=key)
         else:
             assert back.attrs[key] == value, key
     assert set(back.variables) == set(run_result.variables)
