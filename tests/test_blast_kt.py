@@ -23,6 +23,14 @@ def test_the_quadrant_holds_a_quarter_of_the_yield_and_of_the_core(kt, dx):
     assert not mx.any() and not my.any()
 
 
+@pytest.mark.parametrize("kt", [0.1, 1.0, 10.0, 100.0])
+def test_the_default_quadrant_holds_the_point_blast_front_to_the_end(kt):
+    scene = cases.get("blast_kt", kt=kt)
+    (_, L), _ = scene.domain
+    R = float(shock_radius(scene.t_end, kt * KILOTON, 1.225))
+    assert 0.6 * L < R < 0.8 * L and L % 10.0 == 0.0
+
+
 def test_the_initial_state_at_a_point_does_not_depend_on_the_other_points():
     # the sph particle set beyond the open sides is sized from samples of the initial state
     # away from the core; a yield normalised over the points passed divided by zero there
