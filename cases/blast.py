@@ -246,19 +246,22 @@ def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, ha
         boundaries={"x_lo": "reflect", "x_hi": "outflow", "y_lo": "reflect", "y_hi": "outflow"},
         output=output, dx=0.1 * r_c, t_end=t_end,
         probes=tuple(Probe(f"r{f:g}", f * L, 0.0) for f in (0.25, 0.5)),
-        fields=("rho", "u", "v", "p", "e"), measure=lambda ds: blast_front(ds, rho0),
+        fields=("rho", "u", "v", "p", "e"), measure=lambda ds: blast_front(ds, p0),
         description="Large explosion; measured: shock radius and peak density against time (and Sedov-Taylor).",
     )
 
 
-def blast_front(ds, rho0) -> dict:
+def blast_front(ds, p0) -> dict:
     """Shock radius (outermost crossing of half the peak overpressure of
     the ring-averaged pressure) and peak ring-averaged density at every
-    output time after the start, as lists, and at the last one."""
+    output time, as lists, and at the last one. The radius is NaN at a
+    time the output grid shows no overpressure above ``p0`` (a front still
+    inside the first ring of output points)."""
     radii, peaks = [], []
     for k in range(ds.sizes["time"]):
         p, rho = ds.p.isel(time=k), ds.rho.isel(time=k)
-        radii.append(metrics.shock_radius(p, centre=(0.0, 0.0)))
+        seen = float(metrics.ring_profile(p, centre=(0.0, 0.0))[1].max()) > p0 * (1.0 + 1e-9)
+        radii.append(metrics.shock_radius(p, centre=(0.0, 0.0)) if seen else float("nan"))
         peaks.append(float(metrics.ring_profile(rho, centre=(0.0, 0.0))[1].max()))
     return {"shock_radius": radii, "peak_density": peaks, "shock_radius_final": radii[-1],
             "peak_density_final": peaks[-1], "measured_quantities": "shock_radius peak_density"}

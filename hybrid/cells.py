@@ -2,8 +2,10 @@
 
 The hybrid method (Myers, Musk, Palmer & Palmer 2024, Front. Phys. 11,
 1325294) puts SPH particles only in the cells that need them: those where
-density or pressure (or pressure alone: shocks, not contacts) jumps by
-more than a threshold between face neighbours, widened by a buffer of cells (:func:`flagged`); a ring of
+density or pressure jumps by more than a threshold between face neighbours
+(:func:`sensed_jumps`: pressure alone leaves contacts to the grid, pressure
+across compressing faces leaves all but shocks), widened by a buffer of
+cells (:func:`flagged`); a ring of
 cells around them holds the boundary particles (:func:`ring`). Particles
 are laid out on the injection map of a cell, a square lattice of
 ``per_cell`` points per axis (:func:`lattice`).
@@ -18,15 +20,21 @@ import numpy as np
 from scipy import ndimage
 
 
-def relative_jumps(a: np.ndarray, periodic) -> np.ndarray:
+def relative_jumps(a: np.ndarray, periodic, velocity=None) -> np.ndarray:
     """The largest relative jump |a_c − a_n| / min(a_c, a_n) from each cell
     to its face neighbours ``n`` (``periodic``: per axis x[, y]; the field
-    layout is ``([y,] x)``)."""
+    layout is ``([y,] x)``). With ``velocity`` (its components along x[, y],
+    in the field layout) only faces the flow does not diverge across count
+    (u_n,right ≤ u_n,left): a shock compresses, while the flow behind a
+    blast, a rarefaction and a contact do not."""
     jumps = np.zeros_like(a)
     for axis in range(a.ndim):
         wraps = periodic[a.ndim - 1 - axis]
         b = np.roll(a, -1, axis=axis)
         jump = np.abs(b - a) / np.minimum(a, b)
+        if velocity is not None:
+            un = velocity[a.ndim - 1 - axis]
+            jump = np.where(np.roll(un, -1, axis=axis) <= un, jump, 0.0)
         if not wraps:  # no neighbour beyond the last cell
             jump[(slice(None),) * axis + (-1,)] = 0.0
         jumps = np.maximum(jumps, np.maximum(jump, np.roll(jump, 1, axis=axis)))
@@ -43,12 +51,28 @@ def dilated(mask: np.ndarray, cells: int, periodic) -> np.ndarray:
     return grown[tuple(slice(lo, grown.shape[k] - hi) for k, (lo, hi) in enumerate(pad))]
 
 
-def flagged(fields, threshold: float, buffer: int, periodic) -> np.ndarray:
-    """The cells that get particles: a relative jump of any of ``fields``
-    (positive, e.g. density and pressure) to a face neighbour above
+def sensed_jumps(W: np.ndarray, sensor: str, periodic) -> np.ndarray:
+    """The jumps of the primitive fields ``W`` (ρ, u[, v], p; layout
+    ``([y,] x)``) that flag cells, by ``sensor``: ``"rho,p"`` the larger
+    relative jump of density or pressure (shocks and contacts), ``"p"``
+    of pressure (shocks and rarefactions; contacts stay on the grid),
+    ``"shock"`` of pressure across faces the flow does not diverge across
+    (shocks alone: behind a blast the flow expands and goes to the grid)."""
+    if sensor == "rho,p":
+        return np.maximum(relative_jumps(W[0], periodic), relative_jumps(W[-1], periodic))
+    if sensor == "p":
+        return relative_jumps(W[-1], periodic)
+    return relative_jumps(W[-1], periodic, W[1:-1])
+
+
+#: the settings of ``sensor`` (:func:`sensed_jumps`)
+SENSORS = ("rho,p", "p", "shock")
+
+
+def flagged(jumps: np.ndarray, threshold: float, buffer: int, periodic) -> np.ndarray:
+    """The cells that get particles: a jump (:func:`sensed_jumps`) above
     ``threshold``, plus ``buffer`` cells around."""
-    steep = np.maximum.reduce([relative_jumps(a, periodic) for a in fields]) > threshold
-    return dilated(steep, buffer, periodic)
+    return dilated(jumps > threshold, buffer, periodic)
 
 
 def depth(mask: np.ndarray, periodic) -> np.ndarray:

@@ -11,8 +11,8 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
    injection lattice of a ring of cells around the particle cells, which
    move with the grid's velocity and take the grid's state, interpolated
    in space (bilinear) and in time (linear between U(t) and U_fv), at
-   every sub-step. A boundary particle that enters a particle cell joins
-   the fluid; a fluid particle that leaves the particle cells is removed.
+   every sub-step. Roles hold over the step (step 5 changes them), so
+   the sub-steps share one particle set and reuse its neighbour lists.
 3. Conservation: the grid's step fixes what the particle cells hold at
    t + Δt (Σ_cells U_fv: the flux through their edge), and the particles'
    mass, momentum and energy are matched to it (:func:`hybrid.exchange.matched`;
@@ -25,8 +25,10 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
    in); the other cells keep U_fv. The
    total of the grid is then the finite-volume step's: it changes only
    through the domain's sides, to round-off.
-5. Cells are flagged anew (relative jump of ρ or p, or of p alone, to a
-   face neighbour above ``threshold``, plus ``buffer`` cells; a flagged cell stays flagged
+5. Cells are flagged anew (relative jump of ρ or p, of p alone, or of p
+   across faces the flow does not diverge across, to a face neighbour
+   above ``threshold``: :func:`hybrid.cells.sensed_jumps`; plus ``buffer``
+   cells; a flagged cell stays flagged
    until its jumps fall below a quarter of that): fluid particles in the
    ring become boundary particles and those beyond it are removed;
    boundary particles in flagged cells join the fluid; flagged cells left
@@ -58,7 +60,7 @@ from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from gridref.march import march
-from hybrid.cells import cell_of, depth, flagged, lattice, ring
+from hybrid.cells import SENSORS, cell_of, depth, flagged, lattice, ring, sensed_jumps
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
 from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
@@ -66,9 +68,6 @@ from particle.sph.solve import Evaluation, GasSPH, Particles
 
 #: a cell keeps its particles until its jumps fall below this fraction of the threshold
 RELEASE = 0.25
-
-#: the fields whose jumps flag cells, by the setting ``sensor``: their rows in (ρ, u[, v], p)
-SENSORS = {"rho,p": (0, -1), "p": (-1,)}
 
 SETTINGS = ("dx", "beta", "threshold", "sensor", "buffer", "cfl", "cfl_sph", "kernel", "eta", "alpha_max", "alpha_min",
             "alpha_u", "limiter", "riemann", "t_end", "progress")
@@ -95,7 +94,7 @@ class Coupling:
     def __init__(self, scene, grid, stepper, sph, per_cell, eta, threshold, sensor, buffer, switches, cfl_sph):
         self.scene, self.grid, self.stepper, self.sph = scene, grid, stepper, sph
         self.per_cell, self.eta, self.threshold, self.buffer = per_cell, eta, threshold, buffer
-        self.sensed = SENSORS[sensor]
+        self.sensor = sensor
         self.switches, self.cfl_sph = switches, cfl_sph
         self.dim, self.gamma = scene.dim, scene.gamma
         self.shape = tuple(grid.shape)  # cells per axis x[, y]
@@ -185,10 +184,10 @@ class Coupling:
         under a quarter of it and in ring cells left with under half, and the
         particles' evaluation with their new boundary."""
         W = self.primitive(U)
-        sensed = [W[k] for k in self.sensed]
-        owned = flagged(sensed, self.threshold, self.buffer, self.periodic).ravel()
+        jumps = sensed_jumps(W, self.sensor, self.periodic)
+        owned = flagged(jumps, self.threshold, self.buffer, self.periodic).ravel()
         if owned_before.any():
-            owned |= owned_before & flagged(sensed, RELEASE * self.threshold, self.buffer, self.periodic).ravel()
+            owned |= owned_before & flagged(jumps, RELEASE * self.threshold, self.buffer, self.periodic).ravel()
         if not owned.any():
             return State(U, owned, None, None, np.zeros((0, self.dim)), np.zeros(0))
         empty = np.zeros((0, self.dim))
@@ -256,9 +255,14 @@ class Coupling:
         """The fluid particles, and the boundary particles' positions and
         masses, advanced from ``t`` to ``t + dt`` in SPH sub-steps, with the
         boundary state interpolated between ``W0`` (at t) and ``W1`` (at
-        t + dt); boundary particles move with the grid's velocity."""
-        P, E, xb, mb, owned = S.P, S.E, S.xb, S.mb, S.owned
-        _, vb, rhob, ub, Hb, _ = self.boundary(W0, xb, mb)
+        t + dt); boundary particles move with the grid's velocity. Every
+        particle keeps its role over the step (roles change in
+        :meth:`regrouped`, at its end: a particle moves less than a cell in
+        one grid step), so the particle set, and with it the neighbour
+        lists, stays the same across the sub-steps: a Verlet list serves
+        until the particles have moved through its skin."""
+        P, E, xb, mb = S.P, S.E, S.xb, S.mb
+        _, vb, _, ub, Hb, _ = self.boundary(W0, xb, mb)
         s, t1 = t, t + dt
         while s < t1 * (1 - 1e-14):
             speed = E.vsig + np.linalg.norm(P.v, axis=1)
@@ -268,33 +272,12 @@ class Coupling:
             ds = min(ds, t1 - s)
             xb = self.sph.verlet.wrapped(xb + ds * vb)
             a = (s + ds - t) / dt
-            _, vb, rhob, ub, Hb, _ = self.boundary((1.0 - a) * W0 + a * W1, xb, mb)
-            joins = owned[self.cells(xb)]
-            k = int(joins.sum())
-            joined = Particles(x=xb[joins], v=vb[joins], u=ub[joins], m=mb[joins], H=Hb[joins],
-                               alpha=np.full(k, self.switches.alpha_min), alpha_u=np.zeros(k), rho=rhob[joins])
-            xb, vb, rhob, ub, Hb, mb = (q[~joins] for q in (xb, vb, rhob, ub, Hb, mb))
-            left = []
-
-            def retained(Q):
-                """Fluid particles in the particle cells; those that left become boundary particles."""
-                stay = owned[self.cells(Q.x)]
-                left.append((Q.x[~stay], Q.m[~stay]))
-                return stay
-
+            imposed = self.boundary((1.0 - a) * W0 + a * W1, xb, mb)
+            _, vb, _, ub, Hb, _ = imposed
             try:
-                P, E, _ = leapfrog(self.sph, P, E, ds, self.switches, (xb, vb, rhob, ub, Hb, mb),
-                                   lambda Q: joined, retained)
+                P, E, _ = leapfrog(self.sph, P, E, ds, self.switches, imposed)
             except Unstable as err:
                 raise FloatingPointError(f"the particles became unstable ({err})") from None
-            if left and left[0][1].size:
-                x_left, m_left = left[0]
-                _, v_left, rho_left, u_left, H_left, _ = self.boundary((1.0 - a) * W0 + a * W1, x_left, m_left)
-                xb, vb, rhob, ub, Hb, mb = (np.concatenate([q, r]) for q, r in
-                                            zip((xb, vb, rhob, ub, Hb, mb), (x_left, v_left, rho_left, u_left, H_left,
-                                                                             m_left)))
-            if P.x.shape[0] == 0:
-                raise FloatingPointError("every particle left the particle cells")
             s = t1 if s + ds >= t1 * (1 - 1e-14) else s + ds
             self.substeps += 1
             self.particle_steps += P.x.shape[0] + xb.shape[0]
@@ -309,9 +292,12 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     ``dx`` is the particle spacing [m] (default: the scene's), ``beta`` the
     ratio of particle spacing to cell width (1/k for a whole k: the grid's
     cells are ``dx / beta`` wide), ``threshold`` the relative jump of
-    density or pressure (``sensor="rho,p"``: shocks and contacts) or of
-    pressure alone (``"p"``: shocks; contacts stay on the grid) between
-    neighbouring cells above which a cell gets particles, ``buffer`` the cells added around those, ``cfl`` the grid's
+    density or pressure (``sensor="rho,p"``: shocks and contacts), of
+    pressure alone (``"p"``: contacts stay on the grid) or of pressure
+    across compressing faces (``"shock"``: only shocks hold particles; the
+    flow behind a blast goes back to the grid) between neighbouring cells
+    above which a cell gets particles, ``buffer`` the cells added around
+    those, ``cfl`` the grid's
     Courant number, ``cfl_sph`` the particles' (Δt = C min h/v_sig); the
     SPH settings are those of method ``sph`` and ``limiter``/``riemann``
     those of ``fv``. Raises :class:`~cases.errors.SolverFailed` with the
@@ -324,7 +310,7 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     settings = {
         "method": "hybrid", "dx": positive("dx", scene.dx if dx is None else dx),
         "beta": in_range("beta", beta, 0.0, 1.0, lo_open=True), "threshold": positive("threshold", threshold),
-        "sensor": choice("sensor", sensor, tuple(SENSORS)),
+        "sensor": choice("sensor", sensor, SENSORS),
         "buffer": integer("buffer", buffer, 0), "cfl": check_cfl(cfl),
         "cfl_sph": in_range("cfl_sph", cfl_sph, 0.0, 1.0, lo_open=True),
         "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)), "eta": in_range("eta", eta, 1.0, 8.0),
@@ -421,8 +407,8 @@ class _Run(RunRecord):
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
         scheme = (f"hybrid: unsplit MUSCL-Hancock ({s['limiter']}, {s['riemann'].upper()}) on cells "
                   f"{c.cell[0]:g} m wide; grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d), Cullen-Dehnen "
-                  f"viscosity, conduction) at spacing {s['dx']:g} m in the cells where rho or p jumps by more than "
-                  f"{s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
+                  f"viscosity, conduction) at spacing {s['dx']:g} m in the cells where the jump of "
+                  f"{s['sensor']} (sensor) exceeds {s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
                   "particles matched to the grid's flux and deposited back (cloud-in-cell, conservative)")
         attrs = {"fv_cells": c.n_cells, "particles_max": c.most_particles, "sph_substeps": c.substeps,
                  "particle_steps": c.particle_steps,

@@ -3,6 +3,7 @@ placement it needs (a density contrast of 800)."""
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import cases
 from cases.blast import KILOTON
@@ -53,6 +54,21 @@ def test_fv_blast_front_lags_sedov_taylor_by_the_core_mass():
     assert ratio[-1] > 0.85
     # a strong shock in air: density behind it within (γ+1)/(γ−1) ρ0
     assert 4.0 * 1.225 < ds.attrs["peak_density_final"] < 6.0 * 1.225 * 1.2
+
+
+def test_the_front_radius_is_nan_while_the_output_grid_shows_no_overpressure():
+    # a coarse output grid: at first the blast lies inside the first ring of output points
+    from cases.blast import blast_front
+
+    scene = cases.get("blast_kt", n_out=16)
+    x = y = np.asarray(scene.output.x)
+    r = np.hypot(*np.meshgrid(x, y))
+    p = np.stack([np.full_like(r, 1.02e5), np.where(r < 20.0, 3e5, 1.02e5)])
+    ds = xr.Dataset({"p": (("time", "y", "x"), p), "rho": (("time", "y", "x"), np.full_like(p, 1.225))},
+                    coords={"time": [1e-5, 5e-4], "x": x, "y": y})
+    front = blast_front(ds, 1.02e5)
+    assert np.isnan(front["shock_radius"][0])
+    assert abs(front["shock_radius_final"] - 20.0) < 60.0 / 16
 
 
 def test_blast_kt_refuses_a_core_too_wide_for_its_domain():

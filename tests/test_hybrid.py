@@ -8,7 +8,7 @@ import pytest
 import cases
 from cases.errors import InputError
 from compare.metrics import field_error
-from hybrid.cells import cell_of, dilated, flagged, lattice, relative_jumps, ring
+from hybrid.cells import cell_of, dilated, flagged, lattice, relative_jumps, ring, sensed_jumps
 from hybrid.exchange import cloud, deposited, interpolated, matched
 
 SOD = cases.get("sod")
@@ -18,7 +18,7 @@ def test_jumps_flag_the_cells_on_both_sides_of_a_step_and_the_buffer_around():
     rho = np.where(np.arange(40) < 20, 1.0, 0.5)
     p = np.ones(40)
     assert relative_jumps(rho, (False, False))[[18, 19, 20, 21]].tolist() == [0.0, 1.0, 1.0, 0.0]
-    owned = flagged([rho, p], 0.1, 3, (False, False))
+    owned = flagged(sensed_jumps(np.stack([rho, 0 * p, p]), "rho,p", (False, False)), 0.1, 3, (False, False))
     assert np.flatnonzero(owned).tolist() == list(range(16, 24))
 
 
@@ -26,8 +26,25 @@ def test_pressure_alone_flags_the_shock_and_leaves_the_contact_to_the_grid():
     # sod at t = 0.2 in caricature: a contact (density jump, even pressure) at cell 27, a shock at 34
     rho = np.select([np.arange(40) < 27, np.arange(40) < 34], [0.43, 0.27], 0.125)
     p = np.where(np.arange(40) < 34, 0.30, 0.1)
-    assert np.flatnonzero(flagged([rho, p], 0.1, 1, (False, False))).tolist() == [25, 26, 27, 28, 32, 33, 34, 35]
-    assert np.flatnonzero(flagged([p], 0.1, 1, (False, False))).tolist() == [32, 33, 34, 35]
+    W = np.stack([rho, np.zeros(40), p])
+    assert np.flatnonzero(flagged(sensed_jumps(W, "rho,p", (False, False)), 0.1, 1, (False, False))).tolist() == [
+        25, 26, 27, 28, 32, 33, 34, 35]
+    assert np.flatnonzero(flagged(sensed_jumps(W, "p", (False, False)), 0.1, 1, (False, False))).tolist() == [
+        32, 33, 34, 35]
+
+
+def test_the_shock_sensor_flags_a_compression_and_leaves_an_expansion_to_the_grid():
+    # a blast in caricature, moving right: the shock at cell 30 (flow converging), and behind it a
+    # pressure fall with the flow speeding up outwards (diverging), as in the Sedov–Taylor interior
+    x = np.arange(40)
+    p = np.where(x <= 30, 4.0 * 0.8 ** (30 - x), 1.0)
+    u = np.where(x <= 30, 2.0 * x / 30, 0.0)
+    W = np.stack([np.ones(40), u, p])
+    assert np.flatnonzero(sensed_jumps(W, "p", (False, False)) > 0.2).tolist() == list(range(32))
+    assert np.flatnonzero(sensed_jumps(W, "shock", (False, False)) > 0.2).tolist() == [30, 31]
+    # at rest (the first step of a blast) every jump counts
+    W[1] = 0.0
+    assert np.array_equal(sensed_jumps(W, "shock", (False, False)), sensed_jumps(W, "p", (False, False)))
 
 
 def test_jumps_wrap_around_periodic_axes_only():
