@@ -411,7 +411,8 @@ class _Run(RunRecord):
                   f"{s['sensor']} (sensor) exceeds {s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
                   "particles matched to the grid's flux and deposited back (cloud-in-cell, conservative)")
         attrs = {"fv_cells": c.n_cells, "particles_max": c.most_particles, "sph_substeps": c.substeps,
-                 "particle_steps": c.particle_steps,
+                 "particle_steps": c.particle_steps, "neighbour_searches": c.sph.counters[1],
+                 **{f"seconds_{name}": seconds for name, seconds in c.sph.counters[0].items()},
                  "deposition": "grid fields linearly interpolated; Shepard interpolation of the particles "
                                "in the cells that hold them"}
         if all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides) \

@@ -154,6 +154,13 @@ def test_hybrid_conserves_mass_and_energy_in_a_closed_box(sedov_hybrid):
     assert ds.attrs["particles_max"] > 0 and ds.attrs["sph_substeps"] > ds.attrs["n_steps"]
 
 
+def test_hybrid_sub_steps_reuse_the_neighbour_lists(sedov_hybrid):
+    # roles change only between grid steps: a search at each, and one whenever the particles
+    # have moved through the lists' skin, not one per sub-step
+    ds = sedov_hybrid
+    assert ds.attrs["neighbour_searches"] < 0.6 * ds.attrs["sph_substeps"]
+
+
 def test_hybrid_sedov_shock_radius_follows_sedov_taylor(sedov_hybrid):
     ds = sedov_hybrid
     exact = cases.get("sedov", n_out=128, t_end=0.1).exact(ds.time.values[-1:])
