@@ -6,7 +6,8 @@ density or pressure jumps by more than a threshold between face neighbours
 (:func:`sensed_jumps`: pressure alone leaves contacts to the grid, pressure
 across compressing faces leaves all but shocks), widened by a buffer of
 cells (:func:`flagged`); a ring of
-cells around them holds the boundary particles (:func:`ring`). Particles
+cells around them, as wide as the supports of the particles near it
+reach, holds the boundary particles (:func:`ring`). Particles
 are laid out on the injection map of a cell, a square lattice of
 ``per_cell`` points per axis (:func:`lattice`).
 
@@ -75,22 +76,16 @@ def flagged(jumps: np.ndarray, threshold: float, buffer: int, periodic) -> np.nd
     return dilated(jumps > threshold, buffer, periodic)
 
 
-def depth(mask: np.ndarray, periodic) -> np.ndarray:
-    """For each cell of ``mask``, how many cells away (chessboard distance)
-    the nearest cell outside it is: 1 at its edge, 0 outside; periodic axes
-    wrap around, the other sides of the domain do not count as outside
-    (with no cell outside, every cell is as deep as the grid is wide)."""
-    if mask.all():
-        return np.full(mask.shape, max(mask.shape) + 1)
-    cells = max(mask.shape)
-    pad = [(cells, cells) if periodic[mask.ndim - 1 - axis] else (0, 0) for axis in range(mask.ndim)]
-    distance = ndimage.distance_transform_cdt(np.pad(mask, pad, mode="wrap"), metric="chessboard")
-    return distance[tuple(slice(lo, distance.shape[k] - hi) for k, (lo, hi) in enumerate(pad))]
-
-
-def ring(inner: np.ndarray, width: int, periodic) -> np.ndarray:
-    """The cells within ``width`` cells of ``inner`` but not in it."""
-    return dilated(inner, width, periodic) & ~inner
+def ring(inner: np.ndarray, reach: np.ndarray, periodic) -> np.ndarray:
+    """The cells not in ``inner`` within ``reach[c]`` cells (chessboard
+    distance, diagonals included) of some cell ``c``: each cell's reach
+    spread outwards, one less per cell crossed (a 3×3 maximum filter,
+    wrapping around periodic axes)."""
+    modes = ["wrap" if periodic[reach.ndim - 1 - axis] else "constant" for axis in range(reach.ndim)]
+    spread = reach.astype(np.int64)
+    for _ in range(int(spread.max(initial=0))):
+        spread = np.maximum(spread, ndimage.maximum_filter(spread, size=3, mode=modes, cval=0) - 1)
+    return (spread > 0) & ~inner
 
 
 def cell_of(x: np.ndarray, lo, dx, shape) -> np.ndarray:

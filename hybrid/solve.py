@@ -60,7 +60,7 @@ from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from gridref.march import march
-from hybrid.cells import SENSORS, cell_of, depth, flagged, lattice, ring, sensed_jumps
+from hybrid.cells import SENSORS, cell_of, flagged, lattice, ring, sensed_jumps
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
 from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
@@ -148,14 +148,16 @@ class Coupling:
                     free[a] = False
         return free
 
-    def ring_width(self, P: Particles, owned) -> int:
-        """Cells of the boundary ring: enough to hold the support (with the
-        search margin) of every fluid particle beyond the particle cells,
-        from the particle's depth inside them, and two more: a narrower ring
-        (measured on ``sod``) lets more noise in at its edge."""
-        inside = depth(owned.reshape(self.field_shape), self.periodic).ravel()[self.cells(P.x)]
-        reach = SEARCH_SLACK * P.H / self.cell[0] - (inside - 1)
-        return max(1, int(np.ceil(float(reach.max())))) + 2
+    def around(self, P: Particles, owned) -> np.ndarray:
+        """The ring of cells for the boundary particles: the cells outside
+        ``owned`` that the support (with the search margin) of a fluid
+        particle reaches, counted in whole cells from the particle's cell,
+        and two more: a narrower ring (measured on ``sod``) lets more noise
+        in at its edge. Each particle reaches only as far as its own support,
+        so the wide supports of rarefied gas widen the ring only beside it."""
+        reach = np.zeros(self.n_cells, np.int64)
+        np.maximum.at(reach, self.cells(P.x), np.ceil(SEARCH_SLACK * P.H / self.cell[0]).astype(np.int64) + 3)
+        return ring(owned.reshape(self.field_shape), reach.reshape(self.field_shape), self.periodic).ravel()
 
     # --- particles from the grid ---
 
@@ -200,7 +202,7 @@ class Coupling:
         if fill.any():
             P = P.take(np.flatnonzero(~fill[self.cells(P.x)]))
             P.append(self.seeded(np.flatnonzero(fill), U))
-        around = ring(owned.reshape(self.field_shape), self.ring_width(P, owned), self.periodic).ravel()
+        around = self.around(P, owned)
         # fluid particles now in the ring become boundary particles; outside both, they go
         cell = self.cells(P.x)
         leaving = around[cell]

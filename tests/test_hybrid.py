@@ -59,8 +59,20 @@ def test_jumps_wrap_around_periodic_axes_only():
 def test_ring_surrounds_the_region_with_diagonals_and_wraps():
     inner = np.zeros((7, 7), bool)
     inner[3, 3] = True
-    assert ring(inner, 1, (False, False)).sum() == 8
-    assert ring(inner, 2, (False, False)).sum() == 24
+    # a reach of k cells from the centre: the k-th square around it, less the centre
+    assert ring(inner, 2 * inner, (False, False)).sum() == 8
+    assert ring(inner, 3 * inner, (False, False)).sum() == 24
+    # each cell reaches as far as its own reach: a wide one at the left end of a strip, narrow elsewhere
+    strip = np.zeros((9, 12), bool)
+    strip[4, 2:10] = True
+    reach = np.where(strip, 2, 0)
+    reach[4, 2] = 4
+    around = ring(strip, reach, (False, False))
+    assert around[4, 0] and around[1, 2] and around[1, 3] and around[1, 4]  # 3 cells from the wide one
+    assert not around[1, 6] and around[3, 6] and around[5, 6] and around[4, 10] and not around[4, 11]
+    assert np.array_equal(ring(strip, 2 * strip, (False, False)), dilated(strip, 1, (False, False)) & ~strip)
+    # and wraps around a periodic axis
+    assert ring(strip, reach, (True, False))[4, 11]
     edge = np.zeros((5, 6), bool)
     edge[2, 0] = True
     grown = dilated(edge, 1, (True, False))
