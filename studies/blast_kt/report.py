@@ -6,14 +6,16 @@ Reads every ``blast_kt`` result in RUNS_FOLDER (one scene: the same yield and
 quadrant) and writes beside this script
 
 * ``runs.csv``: per run, method, spacing, settings, elements, solver time,
-  the solver time taken to each output time (``frame_seconds``), and the
-  shock radius and peak ring-averaged density at each output time;
+  its speedup over each other method's run at the same spacing, the solver
+  time taken to each output time (``frame_seconds``), and the shock radius
+  (with its error against the reference) and peak ring-averaged density at
+  each output time;
 * ``front.png``: shock radius against time (with Sedov–Taylor) and peak
   density against time; ``cost.png``: solver time against simulated time;
   ``centre_line.png``: density along the symmetry axis y = 0 at the last time.
 
 The reference (``--reference``, default: the finest fv run) gives each run's
-radius error at the last time.
+radius error.
 """
 
 from __future__ import annotations
@@ -43,17 +45,22 @@ def label(ds) -> str:
 
 def table(runs: dict, reference: str) -> pd.DataFrame:
     """One row per run: cost, and front radius and peak density per output time."""
-    R_ref = np.asarray(runs[reference].attrs["shock_radius"])[-1]
+    R_ref = np.asarray(runs[reference].attrs["shock_radius"])
     rows = []
     for name, ds in runs.items():
         a = ds.attrs
         row = {"run": name, "method": a["method"], "dx": a["dx"], "n_elements": a["n_elements"],
                "wall_seconds": a["wall_seconds"], "compile_seconds": a["compile_seconds"], "status": a["status"],
                "particles_max": a.get("particles_max", np.nan),
-               "radius_error_final": np.asarray(a["shock_radius"])[-1] / R_ref - 1.0}
+               "radius_error_final": np.asarray(a["shock_radius"])[-1] / R_ref[-1] - 1.0}
+        # the speedup over each other method's run at the same spacing: its solver time over this one's
+        for other in runs.values():
+            if other.attrs["method"] != a["method"] and np.isclose(other.attrs["dx"], a["dx"]):
+                row[f"speedup_over_{other.attrs['method']}"] = other.attrs["wall_seconds"] / a["wall_seconds"]
         for k, t in enumerate(ds.time.values):
-            row[f"frame_seconds_{t * 1e3:g}ms"] = np.asarray(a["frame_seconds"])[k]
+            row[f"frame_seconds_{t * 1e3:g}ms"] = np.asarray(a.get("frame_seconds", np.full(ds.sizes["time"], np.nan)))[k]
             row[f"shock_radius_{t * 1e3:g}ms"] = np.asarray(a["shock_radius"])[k]
+            row[f"radius_error_{t * 1e3:g}ms"] = np.asarray(a["shock_radius"])[k] / R_ref[k] - 1.0
             row[f"peak_density_{t * 1e3:g}ms"] = np.asarray(a["peak_density"])[k]
         rows.append(row)
     return pd.DataFrame(rows)
@@ -62,7 +69,7 @@ def table(runs: dict, reference: str) -> pd.DataFrame:
 def figures(runs: dict, out: Path) -> None:
     """front.png, cost.png and centre_line.png."""
     first = next(iter(runs.values()))
-    scene = json.loads(first.attrs["parameters"])["scene"]["parameters"]
+    scene = json.loads(first.attrs["parameters"])["scene"]
     t = np.linspace(0.0, float(first.time[-1]), 200)
     fig, (ax_r, ax_rho) = plt.subplots(1, 2, figsize=(11, 4))
     ax_r.plot(t * 1e3, shock_radius(t, scene["kt"] * KILOTON, scene["rho0"], scene["gamma"]), "k--",
@@ -73,7 +80,8 @@ def figures(runs: dict, out: Path) -> None:
         times = ds.time.values * 1e3
         ax_r.plot(times, ds.attrs["shock_radius"], "o-", label=name)
         ax_rho.plot(times, ds.attrs["peak_density"], "o-", label=name)
-        ax_cost.plot(times, ds.attrs["frame_seconds"], "o-", label=name)
+        if "frame_seconds" in ds.attrs:
+            ax_cost.plot(times, ds.attrs["frame_seconds"], "o-", label=name)
         line = ds.rho.isel(time=-1).sel(y=0.0, method="nearest")
         ax_line.plot(line.x, line, label=name)
     ax_r.set(xlabel="t [ms]", ylabel="shock radius [m]")
