@@ -252,8 +252,10 @@ def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, ha
 
 
 def blast_front(ds, p0) -> dict:
-    """Shock radius (outermost crossing of half the peak overpressure of
-    the ring-averaged pressure) and peak ring-averaged density at every
+    """Shock radius (outermost crossing of half the overpressure of the
+    outermost wave of the ring-averaged pressure, :func:`compare.metrics.shock_radius`
+    with ``method="front"``: early on the dense core's gas holds more
+    pressure than the air shock ahead of it) and peak ring-averaged density at every
     output time, as lists, and at the last one. The radius is NaN at a
     time the output grid shows no overpressure above ``p0`` (a front still
     inside the first ring of output points)."""
@@ -261,7 +263,7 @@ def blast_front(ds, p0) -> dict:
     for k in range(ds.sizes["time"]):
         p, rho = ds.p.isel(time=k), ds.rho.isel(time=k)
         seen = float(metrics.ring_profile(p, centre=(0.0, 0.0))[1].max()) > p0 * (1.0 + 1e-9)
-        radii.append(metrics.shock_radius(p, centre=(0.0, 0.0)) if seen else float("nan"))
+        radii.append(metrics.shock_radius(p, centre=(0.0, 0.0), method="front") if seen else float("nan"))
         peaks.append(float(metrics.ring_profile(rho, centre=(0.0, 0.0))[1].max()))
     return {"shock_radius": radii, "peak_density": peaks, "shock_radius_final": radii[-1],
             "peak_density_final": peaks[-1], "measured_quantities": "shock_radius peak_density"}

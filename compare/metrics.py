@@ -437,7 +437,14 @@ def shock_radius(
       peak = max_k v̄_k, ambient = median of the field over the cells with
       r ≥ 0.9 r_max (r_max the largest cell radius) unless given;
     * ``method="gradient"``: the radius of the steepest radial slope,
-      with the parabolic sub-cell fit of :func:`shock_position`.
+      with the parabolic sub-cell fit of :func:`shock_position`;
+    * ``method="front"``: the threshold crossing with the peak taken from
+      the outermost wave alone: its foot is the outermost ring whose
+      excess over ambient exceeds 1 % of the largest, its peak the largest
+      v̄_k within a fifth of the foot's radius inside it. For a blast whose
+      driver gas still holds more pressure than the air shock ahead of it
+      (a dense core, early on) the plain threshold would find the driver's
+      edge; for a Sedov-like profile, peaked at the front, both agree.
 
     Reference: the Sedov–Taylor blast-radius comparison (Sedov 1959,
     *Similarity and Dimensional Methods in Mechanics*, ch. IV; Kamm &
@@ -449,8 +456,8 @@ def shock_radius(
         for a field that is not 2D, a bad centre or bin width, an unknown
         method, or a level outside the ring profile's range.
     """
-    if method not in ("gradient", "threshold"):
-        raise ValueError(f"method must be 'gradient' or 'threshold', got {method!r}.")
+    if method not in ("gradient", "threshold", "front"):
+        raise ValueError(f"method must be 'gradient', 'threshold' or 'front', got {method!r}.")
     rbar, vbar, rr, vv = _rings(field2d, centre, bin_width)
     if method == "gradient":
         return _shock_on_profile(rbar, vbar, "gradient", None, +1)
@@ -458,7 +465,12 @@ def shock_radius(
         if ambient is None:
             ambient = float(np.median(vv[rr >= 0.9 * rr.max()]))
         ambient = number("ambient", ambient)
-        level = ambient + 0.5 * (float(vbar.max()) - ambient)
+        peak = float(vbar.max())
+        if method == "front":
+            excess = vbar - ambient
+            foot = rbar[np.flatnonzero(excess > 0.01 * excess.max())[-1]]
+            peak = float(vbar[(rbar >= 0.8 * foot) & (rbar <= foot)].max())
+        level = ambient + 0.5 * (peak - ambient)
     return _shock_on_profile(rbar, vbar, "threshold", level, +1, name="ring-averaged profile")
 
 

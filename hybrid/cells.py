@@ -9,7 +9,8 @@ cells (:func:`flagged`); a ring of
 cells around them, as wide as the supports of the particles near it
 reach, holds the boundary particles (:func:`ring`). Particles
 are laid out on the injection map of a cell, a square lattice of
-``per_cell`` points per axis (:func:`lattice`).
+``per_cell`` points per axis (:func:`lattice`), and laid out again where
+too few are left or one has grown too coarse (:func:`relaid`).
 
 Fields are in the layout ``([y,] x)`` and cells are numbered in that
 order (flat index ``j nx + i`` in 2D).
@@ -115,3 +116,18 @@ def lattice(cells: np.ndarray, lo, dx, shape, per_cell: int) -> tuple[np.ndarray
         rest //= shape[d]
     points = (corner[:, None, :] + offsets[None, :, :] * np.asarray(dx, float)).reshape(-1, dim)
     return points, np.repeat(cells, offsets.shape[0])
+
+
+def relaid(cell: np.ndarray, m: np.ndarray, rho: np.ndarray, n_cells: int, lattice_count: int,
+           cell_volume: float, coarsest: float) -> np.ndarray:
+    """Per cell, whether its particles (in the flat cells ``cell``, with
+    masses ``m`` and densities ``rho``) should give way to the cell's
+    lattice: fewer than a quarter of the ``lattice_count`` points are left,
+    or one particle carries more than ``coarsest`` times the mass a lattice
+    particle would carry at its density, ρ V_cell / lattice_count (dense gas
+    expanded into rarefied gas, whose support H = η (m/ρ)^(1/d) spans many
+    lattice spacings)."""
+    thin = np.bincount(cell, minlength=n_cells) < 0.25 * lattice_count
+    coarse = np.zeros(n_cells, bool)
+    coarse[cell[m > coarsest * rho * cell_volume / lattice_count]] = True
+    return thin | coarse

@@ -32,8 +32,11 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
    until its jumps fall below a quarter of that): fluid particles in the
    ring become boundary particles and those beyond it are removed;
    boundary particles in flagged cells join the fluid; flagged cells left
-   with under a quarter of their lattice, and ring cells with under half,
-   get the lattice with the cell's state.
+   with under a quarter of their lattice, or holding a particle more than
+   ``COARSEST`` (4) times heavier than a lattice particle at its density
+   (dense gas expanded into rarefied gas: its support, and the ring around
+   it, would span many cells), and ring cells with under half, get the
+   lattice with the cell's state.
 
 ``dx`` is the particle spacing; the grid's cells are ``dx / beta`` wide
 (``beta`` = Δx_SPH/Δx_FV = 1/4: four particles per cell width).
@@ -60,7 +63,7 @@ from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from gridref.march import march
-from hybrid.cells import SENSORS, cell_of, flagged, lattice, ring, sensed_jumps
+from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
 from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
@@ -68,6 +71,10 @@ from particle.sph.solve import Evaluation, GasSPH, Particles
 
 #: a cell keeps its particles until its jumps fall below this fraction of the threshold
 RELEASE = 0.25
+#: a cell gets its lattice back when one of its particles carries more than
+#: this multiple of the mass a lattice particle would carry at its density
+#: (ρ Δx^d): a particle of dense gas that has expanded into rarefied gas
+COARSEST = 4.0
 
 SETTINGS = ("dx", "beta", "threshold", "sensor", "buffer", "cfl", "cfl_sph", "kernel", "eta", "alpha_max", "alpha_min",
             "alpha_u", "limiter", "riemann", "t_end", "progress")
@@ -183,8 +190,9 @@ class Coupling:
         particles in flagged cells, boundary particles in the ring around
         them (a particle crossing from one to the other changes its role,
         one outside both is removed), the lattice in flagged cells left with
-        under a quarter of it and in ring cells left with under half, and the
-        particles' evaluation with their new boundary."""
+        under a quarter of it or holding a particle heavier than ``COARSEST``
+        lattice particles at its density, and in ring cells left with under
+        half, and the particles' evaluation with their new boundary."""
         W = self.primitive(U)
         jumps = sensed_jumps(W, self.sensor, self.periodic)
         owned = flagged(jumps, self.threshold, self.buffer, self.periodic).ravel()
@@ -198,7 +206,7 @@ class Coupling:
         joins = owned[self.cells(xb)]
         P.append(self.fluid(W, xb[joins], mb[joins]))
         xb, mb = xb[~joins], mb[~joins]
-        fill = owned & (np.bincount(self.cells(P.x), minlength=self.n_cells) < 0.25 * self.lattice_count)
+        fill = owned & relaid(self.cells(P.x), P.m, P.rho, self.n_cells, self.lattice_count, self.volume, COARSEST)
         if fill.any():
             P = P.take(np.flatnonzero(~fill[self.cells(P.x)]))
             P.append(self.seeded(np.flatnonzero(fill), U))

@@ -8,7 +8,7 @@ import pytest
 import cases
 from cases.errors import InputError
 from compare.metrics import field_error
-from hybrid.cells import cell_of, dilated, flagged, lattice, relative_jumps, ring, sensed_jumps
+from hybrid.cells import cell_of, dilated, flagged, lattice, relaid, relative_jumps, ring, sensed_jumps
 from hybrid.exchange import cloud, deposited, interpolated, matched
 
 SOD = cases.get("sod")
@@ -99,6 +99,21 @@ def _particles(n, dim, seed=0):
     return Particles(x=rng.uniform(0.0, 1.0, (n, dim)), v=rng.normal(0.0, 1.0, (n, dim)), u=rng.uniform(1.0, 2.0, n),
                      m=rng.uniform(0.5, 1.5, n), H=np.full(n, 0.1), alpha=np.zeros(n), alpha_u=np.zeros(n),
                      rho=np.ones(n))
+
+
+def test_cells_are_relaid_when_thinned_out_or_holding_an_expanded_heavy_particle():
+    # four cells of 16 lattice points (volume 1): lattice mass at density rho is rho / 16
+    full = np.repeat([0, 1, 2], 16)  # cells 0-2 full, cell 3 holds 3 particles (< 4)
+    cell = np.concatenate([full, [3, 3, 3]])
+    m = np.full(cell.size, 2.0 / 16)
+    dens = np.full(cell.size, 2.0)
+    assert relaid(cell, m, dens, 4, 16, 1.0, 4.0).tolist() == [False, False, False, True]
+    # a particle of cell 1 that has expanded to a fifth of its density: 5 lattice masses there
+    dens[20] = 0.4
+    assert relaid(cell, m, dens, 4, 16, 1.0, 4.0).tolist() == [False, True, False, True]
+    # ... to a third: 3 lattice masses, below the limit of 4
+    dens[20] = 2.0 / 3.0
+    assert relaid(cell, m, dens, 4, 16, 1.0, 4.0).tolist() == [False, False, False, True]
 
 
 def test_deposit_puts_the_owned_part_of_every_cloud_on_the_grid():

@@ -179,6 +179,22 @@ def test_shock_radius_quarter_domain(R):
     assert abs(shock_radius(sharp) - R) < 0.25 * dx
 
 
+def test_front_radius_finds_the_air_shock_ahead_of_a_hotter_driver():
+    # a driver at 10 (edge 0.3) behind an air shock at 3 (front 0.7) over ambient 1:
+    # the plain threshold (level 5.5) finds the driver's edge, "front" (level 2) the shock
+    n = 200
+    dx = 1.0 / n
+    x = y = centres(0, 1, n)
+    X, Y = np.meshgrid(x, y)
+    r = np.hypot(X, Y)
+    f = 1.0 + 1.0 * (1 + np.tanh((0.7 - r) / (1.5 * dx))) + 3.5 * (1 + np.tanh((0.3 - r) / (1.5 * dx)))
+    assert abs(shock_radius(da2(f, x, y)) - 0.3) < 2 * dx
+    assert abs(shock_radius(da2(f, x, y), method="front") - 0.7) < 0.1 * dx
+    # on a single front both readings agree
+    single = da2(1.0 + 1.5 * (1 + np.tanh((0.6 - r) / (1.5 * dx))), x, y)
+    assert abs(shock_radius(single, method="front") - shock_radius(single)) < 1e-12
+
+
 def test_shock_radius_full_domain_off_centre_with_a_solid():
     n = 160
     dx = 2.0 / n
