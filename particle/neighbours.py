@@ -271,18 +271,21 @@ def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half,
 
 
 @numba.njit(cache=True, parallel=True)
-def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk):
+def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk, rows):
     """Neighbour count of every particle (by original index) found in its
     own stencil of ``sk[k]`` cells, and the largest candidate count (the
     scratch size the fill pass needs). Rows of small particles see the
     large ones only within their own support (``Hsmall``); the rest of
-    those pairs come from the large particles' rows (:func:`_scatter_large`)."""
+    those pairs come from the large particles' rows (:func:`_scatter_large`).
+    Particles from ``rows`` on count none unless they are large."""
     n = Hs.shape[0]
     Hnone = np.zeros(n)
-    counts = np.empty(n, dtype=np.int64)
-    ncand = np.empty(n, dtype=np.int64)
+    counts = np.zeros(n, dtype=np.int64)
+    ncand = np.zeros(n, dtype=np.int64)
     e = np.empty(0, dtype=np.int64)
     for k in prange(n):
+        if order[k] >= rows and not big[k]:
+            continue
         Hcand = Hsmall if not big[k] else Hnone
         c, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], False, e)
         counts[order[k]] = c
@@ -305,17 +308,17 @@ _CHUNK = 256
 
 @numba.njit(cache=True, parallel=True)
 def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk,
-               maxc, offsets, index, sort_lists, only_large):
-    """Write every particle's (``only_large``: every large particle's)
-    stencil neighbours from ``offsets[i]`` on; chunks of sorted particles
-    share one scratch list."""
+               maxc, offsets, index, sort_lists, only_large, rows):
+    """Write every particle's below ``rows`` (``only_large``: every large
+    particle's) stencil neighbours from ``offsets[i]`` on; chunks of sorted
+    particles share one scratch list."""
     n = Hs.shape[0]
     Hnone = np.zeros(n)
     nchunk = (n + _CHUNK - 1) // _CHUNK
     for ch in prange(nchunk):
         bk = np.empty(maxc, dtype=np.int32)
         for k in range(ch * _CHUNK, min(n, (ch + 1) * _CHUNK)):
-            if only_large and not big[k]:
+            if (only_large and not big[k]) or (not only_large and order[k] >= rows):
                 continue
             Hcand = Hsmall if not big[k] else Hnone
             p, _ = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], True, bk)
@@ -327,18 +330,23 @@ def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, p
 
 
 @numba.njit(cache=True)
-def _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, stencil, index, box, half, count_only, extra):
+def _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, stencil, offsets, index, box, half,
+                   count_only, extra, rows):
     """Pairs (j, i large) with H_j ≤ r < H_i: found only in the large
-    particle's row, added to j's row after its stencil neighbours
+    particle's row (``big_offsets``, ``big_index``: the large particles'
+    stencil neighbours), added to j's row (j below ``rows``) of
+    ``offsets``, ``index`` after its ``stencil[j]`` stencil neighbours
     (``count_only``: counted per j into ``extra``; otherwise written, with
     ``extra`` as the fill cursor). r² comes from :func:`_r2` as in j's own
-    scan, so no pair is lost or doubled. Serial in a fixed order:
-    the lists do not depend on the thread count."""
+    scan, so no pair is lost or doubled. Serial in a fixed order: the
+    lists do not depend on the thread count."""
     dim = 1 if xs1.size == 0 else (2 if xs2.size == 0 else 3)
     for i in large:
         ki = rank[i]
-        for q in range(offsets[i], offsets[i] + stencil[i]):
-            j = index[q]
+        for q in range(big_offsets[i], big_offsets[i + 1]):
+            j = big_index[q]
+            if j >= rows:
+                continue
             kj = rank[j]
             # j's own scan measures the pair from j
             xj1 = xs1[kj] if dim > 1 else 0.0
@@ -474,7 +482,7 @@ def cell_grid(x, lo, hi, periodic, cell_size):
     return origin, width, ncell, per, box
 
 
-def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
+def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=None):
     r"""All pairs with ``r_ij < max(H_i, H_j)``, as CSR lists, by a cell linked list.
 
     Parameters
@@ -496,6 +504,11 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
         Cells per ``max H``: cells are ``max H / reach`` wide and each
         particle scans ``2·reach + 1`` cells per axis. 2 (default) tests
         fewer candidates than 1 (about 25·(H/2)² vs 9·H² areas in 2D).
+    rows : int in [0, n] or None
+        Lists only for the first ``rows`` particles (None: all); the rest
+        are found as their neighbours but get empty lists of their own
+        (boundary, ghost and buffer particles whose own sums nobody needs:
+        a wide ring of them costs no search of its own).
 
     Returns
     -------
@@ -540,6 +553,9 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
     if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or not 1 <= reach <= 4:
         raise InputError(f"reach must be an integer in [1, 4]; got {reach!r}.")
 
+    rows = n if rows is None else rows
+    if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or not 0 <= rows <= n:
+        raise InputError(f"rows must be a whole number from 0 to the particle count {n}; got {rows!r}.")
     if n >= 2**31:
         raise InputError(f"neighbour_lists takes fewer than 2**31 particles (32-bit ids); got {n}.")
     if n == 0:
@@ -565,7 +581,8 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
     cell_width = width[:dim].min()
     sk = np.where(big, np.ceil(Hs / (cell_width / _MARGIN)).astype(np.int64), s)
     Hsmall = np.where(big, 0.0, Hs)
-    counts, maxc = _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk)
+    counts, maxc = _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
+                               rows)
     large = np.flatnonzero(is_large)
     rank = np.empty(n, dtype=np.int64)
     rank[order] = np.arange(n)
@@ -576,16 +593,18 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
         m = int(big_offsets[-1])
         big_index = np.empty(m, dtype=np.int32)
         _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half,
-                   sk, int(maxc), big_offsets, big_index, False, True)
-        _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, counts, big_index, box, half, True, extra)
+                   sk, int(maxc), big_offsets, big_index, False, True, rows)
+        _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, big_offsets, big_index,
+                       box, half, True, extra, rows)
+    counts[rows:] = 0
     offsets = _prefix(counts + extra)
     m = int(offsets[-1])
     index = np.empty(m, dtype=np.int32)
     _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
-               int(maxc), offsets, index, bool(sort_lists), False)
+               int(maxc), offsets, index, bool(sort_lists), False, rows)
     if large.size:
-        _scatter_large(xs0, xs1, xs2, Hs, rank, large, offsets, counts, index, box, half, False,
-                       np.zeros(n, dtype=np.int64))
+        _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, offsets, index, box, half,
+                       False, np.zeros(n, dtype=np.int64), rows)
         if sort_lists:
             _sort_rows(np.flatnonzero(extra), offsets, index)
     return offsets, index
@@ -634,10 +653,10 @@ def separations(x, offsets, index, lo, hi, periodic=False):
     return _separations(x, np.asarray(offsets, np.int64), np.asarray(index), box, half)
 
 
-def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2):
+def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=None):
     """:func:`neighbour_lists` and their :func:`separations`:
     ``(offsets, index, dx, r)`` with ``dx = x_i − x_j`` and ``r = |dx|``."""
-    offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, reach=reach)
+    offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, reach=reach, rows=rows)
     dx, r = separations(x, offsets, index, lo, hi, periodic)
     return offsets, index, dx, r
 

@@ -235,6 +235,31 @@ def test_sort_order_is_a_cell_ordering():
         assert np.array_equal(np.sort(order[i2[o2[k]:o2[k + 1]]]), i1[o1[i]:o1[i + 1]])
 
 
+@pytest.mark.parametrize("dim, periodic", CONFIGS)
+@pytest.mark.parametrize("sort_lists", [False, True])
+def test_lists_for_the_first_rows_only_hold_all_their_pairs(dim, periodic, sort_lists):
+    """rows=k: the first k particles get every pair (wide particles among
+    the rest included: their pairs reach the rows' lists), the rest none."""
+    rng = np.random.default_rng(3 * dim + sum(periodic))
+    n = {1: 300, 2: 600, 3: 700}[dim]
+    lo = np.zeros(dim)
+    hi = np.array([1.0, 1.2, 1.1][:dim])
+    x = lo + rng.random((n, dim)) * (hi - lo)
+    H = rng.uniform(0.03, 0.05, n) * {1: 1.0, 2: 2.0, 3: 3.0}[dim]
+    wide = rng.random(n) < 0.05
+    H[wide] *= rng.uniform(2.0, 6.0, wide.sum())
+    H = np.minimum(H, 0.5)
+    rows = n // 3
+    assert wide[:rows].any() and wide[rows:].any()
+    offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, rows=rows)
+    hit, _ = brute(x, H, lo, hi, periodic)
+    assert offsets.shape == (n + 1,) and offsets[-1] == hit[:rows].sum()
+    assert np.all(offsets[rows:] == offsets[rows])
+    for i in range(rows):
+        j = index[offsets[i]:offsets[i + 1]]
+        assert np.array_equal(j if sort_lists else np.sort(j), np.nonzero(hit[i])[0]), i
+
+
 def test_bad_input_is_refused():
     x = np.random.default_rng(0).random((10, 2))
     H = np.full(10, 0.1)
@@ -254,6 +279,8 @@ def test_bad_input_is_refused():
         assert "\n" not in str(err.value)
     with pytest.raises(InputError, match="reach"):
         neighbours(x, H, [0, 0], [1, 1], False, reach=0)
+    with pytest.raises(InputError, match="rows"):
+        neighbours(x, H, [0, 0], [1, 1], False, rows=11)
     with pytest.raises(InputError, match="cell_size"):
         sort_order(x, [0, 0], [1, 1], 0.0)
 

@@ -26,11 +26,13 @@ class PerParticle:
 
 @dataclass
 class NeighbourLists:
-    """CSR neighbour lists of the ``n`` fluid particles, the imposed ones
-    after them and their mirror ghosts (``src``: each ghost's source,
-    ``sides``: the mask of the sides it is mirrored across), with the
-    positions ``x`` and velocities ``v`` of all of them and the radius each
-    particle's list is complete for."""
+    """CSR neighbour lists of the ``n`` fluid particles, whose neighbours
+    are fluid particles, the imposed ones after them and their mirror
+    ghosts (``src``: each ghost's source, ``sides``: the mask of the sides
+    it is mirrored across; imposed particles and ghosts have empty lists of
+    their own: their sums are not needed), with the positions ``x`` and
+    velocities ``v`` of all of them and the radius each particle's list is
+    complete for."""
 
     n: int
     x: np.ndarray
@@ -94,7 +96,7 @@ class VerletLists:
         gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, float(reach.max()), self.open)
         x = np.concatenate([x_real, gx])
         radius = np.concatenate([reach, reach[src]])
-        offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic)
+        offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic, rows=n)
         self.last = NeighbourLists(n, x, np.concatenate([v_real, gv]), src, sides, radius, offsets, index)
         self.searches += 1
         self.seconds += _time.perf_counter() - t0
