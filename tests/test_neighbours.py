@@ -43,6 +43,20 @@ def check_against_brute(x, H, lo, hi, periodic, **kw):
     return offsets, index, dx, r
 
 
+def scattered_with_wide_supports(seed, dim, n, sides, wide_fraction, widest):
+    """``(lo, hi, x, H, wide)``: ``n`` random positions in a box of ``sides``
+    and supports of 3–5 % of a side (times ``dim``), of which a fraction
+    ``wide_fraction`` (flagged in ``wide``) is widened 2 to ``widest`` times
+    (capped at 0.5): a blast's rarefied core among the bulk."""
+    rng = np.random.default_rng(seed)
+    lo, hi = np.zeros(dim), np.array(sides[:dim])
+    x = lo + rng.random((n, dim)) * (hi - lo)
+    H = rng.uniform(0.03, 0.05, n) * dim
+    wide = rng.random(n) < wide_fraction
+    H[wide] *= rng.uniform(2.0, widest, wide.sum())
+    return lo, hi, x, np.minimum(H, 0.5), wide
+
+
 CONFIGS = [
     (1, (False,)),
     (1, (True,)),
@@ -80,15 +94,8 @@ def test_a_few_wide_particles_scan_stencils_of_their_own(dim, periodic, sort_lis
     """Supports spread over a factor 8 (a blast's rarefied core): the cells are
     sized for the bulk, the widest particles search further, and the pairs
     only they reach are added to the narrow particles' lists."""
-    rng = np.random.default_rng(7 * dim + sum(periodic))
     n = {1: 400, 2: 800, 3: 900}[dim]
-    lo = np.zeros(dim)
-    hi = np.array([1.0, 1.3, 1.1][:dim])
-    x = lo + rng.random((n, dim)) * (hi - lo)
-    H = rng.uniform(0.03, 0.05, n) * {1: 1.0, 2: 2.0, 3: 3.0}[dim]
-    wide = rng.random(n) < 0.04
-    H[wide] *= rng.uniform(2.0, 8.0, wide.sum())
-    H = np.minimum(H, 0.5)
+    lo, hi, x, H, _ = scattered_with_wide_supports(7 * dim + sum(periodic), dim, n, [1.0, 1.3, 1.1], 0.04, 8.0)
     offsets, index, _, _ = check_against_brute(x, H, lo, hi, periodic, sort_lists=sort_lists)
     if sort_lists:
         assert all(np.all(np.diff(index[offsets[i]:offsets[i + 1]]) > 0) for i in range(n))
@@ -240,15 +247,8 @@ def test_sort_order_is_a_cell_ordering():
 def test_lists_for_the_first_rows_only_hold_all_their_pairs(dim, periodic, sort_lists):
     """rows=k: the first k particles get every pair (wide particles among
     the rest included: their pairs reach the rows' lists), the rest none."""
-    rng = np.random.default_rng(3 * dim + sum(periodic))
     n = {1: 300, 2: 600, 3: 700}[dim]
-    lo = np.zeros(dim)
-    hi = np.array([1.0, 1.2, 1.1][:dim])
-    x = lo + rng.random((n, dim)) * (hi - lo)
-    H = rng.uniform(0.03, 0.05, n) * {1: 1.0, 2: 2.0, 3: 3.0}[dim]
-    wide = rng.random(n) < 0.05
-    H[wide] *= rng.uniform(2.0, 6.0, wide.sum())
-    H = np.minimum(H, 0.5)
+    lo, hi, x, H, wide = scattered_with_wide_supports(3 * dim + sum(periodic), dim, n, [1.0, 1.2, 1.1], 0.05, 6.0)
     rows = n // 3
     assert wide[:rows].any() and wide[rows:].any()
     offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, rows=rows)
