@@ -112,8 +112,11 @@ class Coupling:
         self.n_cells = int(np.prod(self.shape))
         self.lattice_count = per_cell ** self.dim
         self.periodic = tuple(scene.periodic) + (False,) * (2 - self.dim)
-        #: sub-steps taken and the particle-steps they cost (particles × sub-steps), over the run
+        #: sub-steps taken and the particle-steps they cost (particles × sub-steps), over the run, of
+        #: all particles and of the fluid ones alone (the rows of the SPH sums: boundary particles are
+        #: only neighbours)
         self.substeps, self.particle_steps, self.most_particles = 0, 0, 0
+        self.fluid_steps, self.most_fluid = 0, 0
         self.error = None
 
     # --- the grid's state where the particles need it ---
@@ -230,6 +233,7 @@ class Coupling:
         E = self.sph.evaluate(P, P.x, P.v, P.u, self.boundary(W, xb, mb))
         P.H, P.rho = E.H, E.rho
         self.most_particles = max(self.most_particles, P.x.shape[0] + xb.shape[0])
+        self.most_fluid = max(self.most_fluid, P.x.shape[0])
         return State(U, owned, P, E, xb, mb)
 
     # --- one step of the coupled system ---
@@ -291,6 +295,7 @@ class Coupling:
             s = t1 if s + ds >= t1 * (1 - 1e-14) else s + ds
             self.substeps += 1
             self.particle_steps += P.x.shape[0] + xb.shape[0]
+            self.fluid_steps += P.x.shape[0]
         return P, xb, mb
 
 
@@ -421,7 +426,8 @@ class _Run(RunRecord):
                   f"{s['sensor']} (sensor) exceeds {s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
                   "particles matched to the grid's flux and deposited back (cloud-in-cell, conservative)")
         attrs = {"fv_cells": c.n_cells, "particles_max": c.most_particles, "sph_substeps": c.substeps,
-                 "particle_steps": c.particle_steps, "neighbour_searches": c.sph.counters[1],
+                 "particle_steps": c.particle_steps, "fluid_particles_max": c.most_fluid,
+                 "fluid_particle_steps": c.fluid_steps, "neighbour_searches": c.sph.counters[1],
                  **{f"seconds_{name}": seconds for name, seconds in c.sph.counters[0].items()},
                  "deposition": "grid fields linearly interpolated; Shepard interpolation of the particles "
                                "in the cells that hold them"}

@@ -179,6 +179,9 @@ def test_hybrid_conserves_mass_and_energy_in_a_closed_box(sedov_hybrid):
     ds = sedov_hybrid
     assert ds.attrs["mass_drift"] < 1e-12 and ds.attrs["energy_drift"] < 1e-12
     assert ds.attrs["particles_max"] > 0 and ds.attrs["sph_substeps"] > ds.attrs["n_steps"]
+    # the fluid particles are counted apart from the boundary ring around them
+    assert 0 < ds.attrs["fluid_particles_max"] < ds.attrs["particles_max"]
+    assert 0 < ds.attrs["fluid_particle_steps"] < ds.attrs["particle_steps"]
 
 
 def test_hybrid_sub_steps_reuse_the_neighbour_lists(sedov_hybrid):

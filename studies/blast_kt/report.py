@@ -61,6 +61,7 @@ def table(runs: dict, front: dict, reference: str) -> pd.DataFrame:
         row = {"run": name, "method": a["method"], "dx": a["dx"], "n_elements": a["n_elements"],
                "wall_seconds": a["wall_seconds"], "compile_seconds": a["compile_seconds"], "status": a["status"],
                "particles_max": a.get("particles_max", np.nan),
+               "fluid_particles_max": a.get("fluid_particles_max", np.nan),
                "radius_error_final": R[-1] / R_ref[-1] - 1.0}
         # the speedup over each other method at the same spacing: its solver time (its fastest run's) over this one's
         for other in runs.values():
