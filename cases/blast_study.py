@@ -38,6 +38,9 @@ VARIANT_SHAPES = ("square", "triangle_right")
 TRAP = {"layers": 6, "trap_gap": 0.08, "standoff": 0.17}
 #: the time of the snapshots (seed study, Fig. 6)
 SNAPSHOT_TIME = 1.7e-3
+#: the wall loads compared between methods (:func:`compare.report.agreement`)
+AGREEMENT = ("wall_force_peak_raw", "wall_force_peak_fitted", "wall_impulse_final", "wall_arrival_time",
+             "wall_peak_pressure_fitted")
 ROWS = 3
 
 
@@ -145,6 +148,9 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     * ``ranking.csv``: the configurations of each blast ranked by wall
       impulse per method (1: the lowest impulse), ``rank_correlation.csv``:
       Spearman's ρ between the methods' rankings, per blast;
+    * ``agreement.csv`` (fv and another method): per configuration and
+      method, the relative difference of the wall loads from fv's
+      (:func:`compare.report.agreement`);
     * figures: wall force and impulse of every configuration with its
       methods overlaid (``wall_force_<label>.png``), of every method and
       part of the study with its configurations overlaid
@@ -157,7 +163,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     (NaN for a run not made now)."""
     from compare import plots
     from compare.io import read
-    from compare.report import rank_correlation, ranking, wall_load_table, write_table
+    from compare.report import agreement, rank_correlation, ranking, wall_load_table, write_table
     from cases.sweep import finished
 
     dx = dict(dx or {})
@@ -187,6 +193,8 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     pd.concat(ranks, names=["blast"]).to_csv(output / "ranking.csv")
     pd.concat({blast: rank_correlation(r) for blast, r in ranks.items()}, names=["blast"]).to_csv(
         output / "rank_correlation.csv")
+    if "fv" in set(table["method"]) and table["method"].nunique() > 1:
+        agreement(table, AGREEMENT).to_csv(output / "agreement.csv", index=False)
     figures = output / "figures"
     for label in dict.fromkeys(labels):
         group = [(ds, ds.attrs["method"]) for ds, lab in zip(runs, labels) if lab == label]

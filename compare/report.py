@@ -117,6 +117,29 @@ def ranking(df: pd.DataFrame, quantity: str, item: str = "configuration") -> pd.
     return values.rank(method="min")
 
 
+def agreement(df: pd.DataFrame, quantities, reference: str = "fv", item: str = "configuration") -> pd.DataFrame:
+    """The relative difference (q_method − q_reference)/|q_reference| of
+    each of ``quantities`` between every other method of ``df`` (a
+    :func:`wall_load_table`) and the ``reference`` method, per ``item``
+    both ran: one row per item and method, a column per quantity, and
+    ``largest``, the largest magnitude among them. Empty if the reference
+    method ran nothing."""
+    values = df.pivot_table(index=item, columns="method", values=list(quantities), aggfunc="first", sort=False,
+                            dropna=False)
+    rows = []
+    methods = [m for m in dict.fromkeys(df["method"]) if m != reference]
+    if reference not in set(df["method"]):
+        return pd.DataFrame(columns=[item, "method", *quantities, "largest"])
+    for label in values.index:
+        for method in methods:
+            diff = {q: (values.loc[label, (q, method)] - values.loc[label, (q, reference)])
+                    / abs(values.loc[label, (q, reference)]) for q in quantities}
+            if all(np.isnan(v) for v in diff.values()):
+                continue
+            rows.append({item: label, "method": method, **diff, "largest": np.nanmax(np.abs(list(diff.values())))})
+    return pd.DataFrame(rows, columns=[item, "method", *quantities, "largest"])
+
+
 def rank_correlation(ranks: pd.DataFrame) -> pd.DataFrame:
     """Spearman's rank correlation between the columns (methods) of a
     :func:`ranking`, each pair over the items both ranked (at least three):

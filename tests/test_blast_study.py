@@ -18,7 +18,7 @@ from cases.blast_study import configurations, run_study
 from cases.errors import InputError
 from cases.shapes import SHAPES
 from compare import exact
-from compare.report import rank_correlation, ranking
+from compare.report import agreement, rank_correlation, ranking
 
 
 def test_the_moderate_part_is_the_seed_studys_eleven_configurations():
@@ -92,6 +92,22 @@ def test_ranking_and_rank_correlation_match_spearman():
     short = df.drop(index=[9])
     rho_short = rank_correlation(ranking(short, "wall_impulse_final")).loc["fv", "sph"]
     assert rho_short == pytest.approx(spearmanr(a[1:], b[1:]).statistic, abs=1e-12)
+
+
+def test_agreement_is_the_relative_difference_from_the_reference_method():
+    df = pd.DataFrame({"configuration": ["a", "b", "a", "b", "a"], "method": ["fv", "fv", "sph", "sph", "dsmc"],
+                       "wall_impulse_final": [10.0, 20.0, 11.0, 15.0, 8.0],
+                       "wall_force_peak_raw": [100.0, 200.0, 90.0, 240.0, np.nan]})
+    table = agreement(df, ["wall_impulse_final", "wall_force_peak_raw"]).set_index(["configuration", "method"])
+    assert table.loc[("a", "sph"), "wall_impulse_final"] == pytest.approx(0.1)
+    assert table.loc[("a", "sph"), "wall_force_peak_raw"] == pytest.approx(-0.1)
+    assert table.loc[("b", "sph"), "largest"] == pytest.approx(0.25)
+    # a quantity a method did not measure is NaN and left out of its largest difference
+    assert np.isnan(table.loc[("a", "dsmc"), "wall_force_peak_raw"])
+    assert table.loc[("a", "dsmc"), "largest"] == pytest.approx(0.2)
+    # dsmc did not run b: no row; fv is the reference: no rows of its own
+    assert ("b", "dsmc") not in table.index and "fv" not in table.index.get_level_values("method")
+    assert agreement(df[df["method"] != "fv"], ["wall_impulse_final"]).empty
 
 
 def test_a_small_study_ranks_the_open_channel_last(tmp_path):
