@@ -118,6 +118,12 @@ def lattice(cells: np.ndarray, lo, dx, shape, per_cell: int) -> tuple[np.ndarray
     return points, np.repeat(cells, offsets.shape[0])
 
 
+def thinned(cell: np.ndarray, n_cells: int, fewest: float) -> np.ndarray:
+    """Per cell, whether fewer than ``fewest`` of the particles in the flat
+    cells ``cell`` lie in it."""
+    return np.bincount(cell, minlength=n_cells) < fewest
+
+
 def relaid(cell: np.ndarray, m: np.ndarray, rho: np.ndarray, n_cells: int, lattice_count: int,
            cell_volume: float, coarsest: float) -> np.ndarray:
     """Per cell, whether its particles (in the flat cells ``cell``, with
@@ -127,7 +133,7 @@ def relaid(cell: np.ndarray, m: np.ndarray, rho: np.ndarray, n_cells: int, latti
     particle would carry at its density, ρ V_cell / lattice_count (dense gas
     expanded into rarefied gas, whose support H = η (m/ρ)^(1/d) spans many
     lattice spacings)."""
-    thin = np.bincount(cell, minlength=n_cells) < 0.25 * lattice_count
+    thin = thinned(cell, n_cells, 0.25 * lattice_count)
     coarse = np.zeros(n_cells, bool)
     coarse[cell[m > coarsest * rho * cell_volume / lattice_count]] = True
     return thin | coarse

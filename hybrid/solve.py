@@ -63,7 +63,7 @@ from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from gridref.march import march
-from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps
+from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
 from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
@@ -203,7 +203,6 @@ class Coupling:
             owned |= owned_before & flagged(jumps, RELEASE * self.threshold, self.buffer, self.periodic).ravel()
         if not owned.any():
             return State(U, owned, None, None, np.zeros((0, self.dim)), np.zeros(0))
-        empty = np.zeros((0, self.dim))
         P = P if P is not None else self.seeded(np.zeros(0, np.int64), U)
         # boundary particles now in flagged cells join the fluid with the grid's state
         joins = owned[self.cells(xb)]
@@ -219,15 +218,14 @@ class Coupling:
         leaving = around[cell]
         xb, mb = np.concatenate([xb, P.x[leaving]]), np.concatenate([mb, P.m[leaving]])
         P = P.take(np.flatnonzero(owned[cell]))
-        keep = around[self.cells(xb)] if xb.size else np.zeros(0, bool)
+        keep = around[self.cells(xb)]
         xb, mb = xb[keep], mb[keep]
-        thin = around & (np.bincount(self.cells(xb) if xb.size else np.zeros(0, np.int64),
-                                     minlength=self.n_cells) < 0.5 * self.lattice_count)
+        thin = around & thinned(self.cells(xb), self.n_cells, 0.5 * self.lattice_count)
         if thin.any():
-            keep = ~thin[self.cells(xb)] if xb.size else np.zeros(0, bool)
+            keep = ~thin[self.cells(xb)]
             new, _ = lattice(np.flatnonzero(thin), self.lo, self.cell, self.shape, self.per_cell)
             rho = interpolated(W[:1], self.stencil(new))[0]
-            xb = np.concatenate([xb[keep] if xb.size else empty, new])
+            xb = np.concatenate([xb[keep], new])
             mb = np.concatenate([mb[keep], rho * (self.volume / self.lattice_count)])
         self.sph.verlet.forget()
         E = self.sph.evaluate(P, P.x, P.v, P.u, self.boundary(W, xb, mb))
