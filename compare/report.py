@@ -124,12 +124,13 @@ def agreement(df: pd.DataFrame, quantities, reference: str = "fv", item: str = "
     both ran: one row per item and method, a column per quantity, and
     ``largest``, the largest magnitude among them. Empty if the reference
     method ran nothing."""
+    columns = [item, "method", *quantities, "largest"]
+    if reference not in set(df["method"]):
+        return pd.DataFrame(columns=columns)
     values = df.pivot_table(index=item, columns="method", values=list(quantities), aggfunc="first", sort=False,
                             dropna=False)
-    rows = []
     methods = [m for m in dict.fromkeys(df["method"]) if m != reference]
-    if reference not in set(df["method"]):
-        return pd.DataFrame(columns=[item, "method", *quantities, "largest"])
+    rows = []
     for label in values.index:
         for method in methods:
             diff = {q: (values.loc[label, (q, method)] - values.loc[label, (q, reference)])
@@ -137,7 +138,7 @@ def agreement(df: pd.DataFrame, quantities, reference: str = "fv", item: str = "
             if all(np.isnan(v) for v in diff.values()):
                 continue
             rows.append({item: label, "method": method, **diff, "largest": np.nanmax(np.abs(list(diff.values())))})
-    return pd.DataFrame(rows, columns=[item, "method", *quantities, "largest"])
+    return pd.DataFrame(rows, columns=columns)
 
 
 def rank_correlation(ranks: pd.DataFrame) -> pd.DataFrame:
