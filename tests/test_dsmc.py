@@ -106,10 +106,38 @@ def test_obstacle_reflection_is_specular_and_leaves_no_particle_inside():
     v = rng.normal(0.0, 1.0, (x.shape[0], 3))
     speed = np.linalg.norm(v, axis=1)
     fly_past_obstacles(x, v, 0.05, seg, nrm, start, bbox)
-    assert push_out_of_obstacles(x, v, seg, nrm, start) == 0
+    assert push_out_of_obstacles(x, v, seg, nrm, start, bbox) == 0
     heights = np.einsum("nsd,sd->ns", x[:, None, :] - seg[None, :, 0, :], nrm)
     assert np.all(heights.max(axis=1) >= -1e-12)  # above some face: outside the convex polygon
     np.testing.assert_allclose(np.linalg.norm(v, axis=1), speed, rtol=1e-13)
+
+
+def test_safeguard_mirrors_points_out_of_whichever_body_holds_them():
+    """Points strictly inside any of several bodies are found (against the
+    bodies' exact signed distance) and mirrored across the nearest face:
+    back outside, at the same distance from it; points outside stay put."""
+    from cases.shapes import circle, square
+    from particle.dsmc.walls import inside_obstacles, obstacle_polygons, push_out_of_obstacles
+
+    bodies = [square(0.2, 0.5, 0.2), circle(0.5, 0.5, 0.15), square(0.8, 0.3, 0.1)]
+    seg, nrm, start, bbox = obstacle_polygons(bodies, 1e-3)
+    rng = np.random.default_rng(3)
+    x = rng.uniform(0.0, 1.0, (40000, 2))
+    depth = np.min([b.signed_distance(x[:, 0], x[:, 1]) for b in bodies], axis=0)
+    x = x[np.abs(depth) > 1e-3]  # clear of the circle's chords
+    depth = depth[np.abs(depth) > 1e-3]
+    inside = depth < 0.0
+    assert inside.sum() > 1000 and (~inside).sum() > 1000
+    np.testing.assert_array_equal(inside_obstacles(x, seg, nrm, start, bbox), inside)
+    # in the squares the nearest face is exact: mirrored to the same distance outside
+    moved = x.copy()
+    v = np.tile([-1.0, 0.0, 0.0], (x.shape[0], 1))
+    assert push_out_of_obstacles(moved, v, seg, nrm, start, bbox) == inside.sum()
+    assert not inside_obstacles(moved, seg, nrm, start, bbox).any()
+    np.testing.assert_array_equal(moved[~inside], x[~inside])
+    in_square = inside & (np.abs(x[:, 0] - 0.5) > 0.2)
+    after = np.min([b.signed_distance(moved[:, 0], moved[:, 1]) for b in bodies[::2]], axis=0)
+    np.testing.assert_allclose(after[in_square], -depth[in_square], atol=1e-12)
 
 
 def test_closed_box_with_an_obstacle_keeps_mass_and_energy_and_no_particle_inside():

@@ -148,7 +148,7 @@ def _compile_kernels(dim, zeta, collisions):
     x, v, e = np.full((2, dim), 0.5), np.zeros((2, 3)), np.zeros(2)
     lo, spacing, shape = np.zeros(dim), np.ones(dim), np.ones(dim, dtype=np.int64)
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
-    start = sort_into_cells(x, v, e, lo, spacing, shape, 1, x.copy(), v.copy(), e.copy())
+    start = sort_into_cells(x, v, e, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(), e.copy())
     equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
     if collisions == "larsen-borgnakke":
         collide(v, e, start, np.ones(1), 1.0, 1.0, 1.0, 0.74, 5.0, zeta, 0, 0, np.ones(1), np.zeros(1),
@@ -159,7 +159,7 @@ def _compile_kernels(dim, zeta, collisions):
     if dim == 2:
         polygons = obstacle_polygons([_UNIT_SQUARE], 1.0)
         fly_past_obstacles(x, v, 0.0, *polygons)
-        push_out_of_obstacles(x, v, *polygons[:3])
+        push_out_of_obstacles(x, v, *polygons)
 
 
 class _Gas:
@@ -194,7 +194,7 @@ class _Gas:
         self._outflow = {}  # side -> running moments of the cells next to an outflow
         fraction = None
         if scene.obstacles:
-            fluid = ~inside_obstacles(self.x, *self.polygons[:3])
+            fluid = ~inside_obstacles(self.x, *self.polygons)
             self.x, self.v, self.e = self.x[fluid], self.v[fluid], self.e[fluid]
             fraction = fluid_fraction(*self.polygons, self.lo, self.spacing, self.shape)
         out = scene.output
@@ -257,7 +257,7 @@ class _Gas:
 
     def in_solids(self) -> int:
         """Particles inside an obstacle polygon (the solver keeps this 0)."""
-        return int(inside_obstacles(self.x, *self.polygons[:3]).sum()) if self.scene.obstacles else 0
+        return int(inside_obstacles(self.x, *self.polygons).sum()) if self.scene.obstacles else 0
 
     def signal_speed(self) -> float:
         """max |U| + 3 √θ over the cells of the last sort (θ = p/ρ)."""
@@ -278,13 +278,10 @@ class _Gas:
             # obstacles first, then the domain's sides fold the end points back (a flight of 0 s)
             self.bounces += fly_past_obstacles(self.x, self.v, dt, *self.polygons)
             gone, delivered = free_flight(self.x, self.v, 0.0, self.lo, self.hi, self.sides)
-            self.safeguard += push_out_of_obstacles(self.x, self.v, *self.polygons[:3])
+            self.safeguard += push_out_of_obstacles(self.x, self.v, *self.polygons)
         else:
             gone, delivered = free_flight(self.x, self.v, dt, self.lo, self.hi, self.sides)
-        if gone.any():
-            keep = ~gone
-            self.x, self.v, self.e = self.x[keep], self.v[keep], self.e[keep]
-        start = self._sort()
+        start = self._sort(~gone)
         # the redraw conserves each cell's sums: they are the step's sample
         self.cells.reset()
         if self.vhs is None:
@@ -296,17 +293,18 @@ class _Gas:
         self.state = self.cells.state(self.mass, self.scene.gamma)
         return self._side_forces(delivered, dt)
 
-    def _sort(self) -> np.ndarray:
-        """Put the particles in cell order (into the spare buffers, which
-        then hold the old order); returns the cell starts."""
+    def _sort(self, keep) -> np.ndarray:
+        """Put the particles flagged in ``keep`` in cell order (into the
+        spare buffers, which then hold the old order) and drop the rest;
+        returns the cell starts."""
         n = self.x.shape[0]
         if self._spare is None or self._spare[2].shape[0] < n:
             capacity = n + n // 4 + 16  # room for the particles an inflow adds
             self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity))
         old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e))
-        self.x, self.v, self.e = (buffer[:n] for buffer in self._spare)
-        start = sort_into_cells(*(a[:n] for a in old), self.lo, self.spacing, self.cells.shape_array,
-                                numba.get_num_threads(), self.x, self.v, self.e)
+        start = sort_into_cells(*(a[:n] for a in old), keep, self.lo, self.spacing, self.cells.shape_array,
+                                numba.get_num_threads(), *self._spare)
+        self.x, self.v, self.e = (buffer[:start[-1]] for buffer in self._spare)
         self._spare = old
         return start
 
@@ -349,7 +347,7 @@ class _Gas:
                                        *(np.array([q], dtype=float) for q in (rho, u, v, p)), self.mass, self.zeta,
                                        self.seed, n, 2 * self.ncell + side)
         if self.scene.obstacles:  # an obstacle may run out through the side: no gas inside it
-            fluid = ~inside_obstacles(x, *self.polygons[:3])
+            fluid = ~inside_obstacles(x, *self.polygons)
             x, vel, e = x[fluid], vel[fluid], e[fluid]
         return x, vel, e
 
