@@ -75,6 +75,12 @@ def _array(label: str, part: str, blast: str = "moderate", **parameters) -> Conf
     return Configuration(label, "blast_array", tuple(values.items()), part)
 
 
+def file_stem(label: str) -> str:
+    """A configuration's label as a file name: ``no obstacle (moderate)``
+    -> ``no_obstacle_moderate``."""
+    return label.replace(" ", "_").replace("(", "").replace(")", "")
+
+
 def configurations(parts=("moderate",)) -> list[Configuration]:
     """The configurations of the study's ``parts`` (:data:`PARTS`):
 
@@ -198,7 +204,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     figures = output / "figures"
     for label in dict.fromkeys(labels):
         group = [(ds, ds.attrs["method"]) for ds, lab in zip(runs, labels) if lab == label]
-        stem = label.replace(" ", "_").replace("(", "").replace(")", "")
+        stem = file_stem(label)
         for var in ("wall_force", "wall_impulse"):
             plots.series([g[0] for g in group], var, figures / f"{var}_{stem}.png", names=[g[1] for g in group],
                          scale=1e3, unit="ms", title=label)

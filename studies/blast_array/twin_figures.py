@@ -17,7 +17,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from cases.blast_study import configurations
+from cases.blast_study import configurations, file_stem
 from cases.sweep import finished
 from compare import plots
 from compare.io import read
@@ -48,9 +48,8 @@ def main(output: str, *arguments: str) -> None:
                 names.append(name)
         if len(runs) < 2:
             continue
-        stem = config.label.replace(" ", "_").replace("(", "").replace(")", "")
         for var in ("wall_force", "wall_impulse"):
-            print(plots.series(runs, var, output / f"{var}_{stem}.png", names=names, scale=1e3, unit="ms",
+            print(plots.series(runs, var, output / f"{var}_{file_stem(config.label)}.png", names=names, scale=1e3, unit="ms",
                                title=config.label))
 
 
