@@ -2,6 +2,8 @@
 periodic wrap and removal at open sides; a closed box keeps its particles
 and its energy to round-off; sod against the exact solution."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -241,3 +243,21 @@ def test_frames_on_the_run_grid_take_the_steps_cell_sums():
     np.testing.assert_array_equal(from_sums.s0, from_particles.s0)
     np.testing.assert_allclose(from_sums.s1, from_particles.s1, rtol=1e-12, atol=1e-12 * np.abs(gas.v).max())
     np.testing.assert_allclose(from_sums.s2, from_particles.s2, rtol=1e-12)
+
+
+@pytest.mark.parametrize("interval", [1.0, 2.0, 2.001, 3.999, 5.0005, 7.3])
+def test_landing_steps_reach_the_output_time_without_a_sliver(interval):
+    """Stepping toward an output time ``interval`` stable steps away lands on
+    it exactly, never exceeds the stable step and never takes less than
+    half of one (a sliver step would spike the particles' wall force)."""
+    from particle.dsmc.solve import landing_step
+
+    dt_max, t, steps = 1e-6, 0.0, []
+    t_out = interval * dt_max
+    while t < t_out * (1 - 1e-14):
+        steps.append(landing_step(dt_max, t_out - t))
+        t += steps[-1]
+    assert t == pytest.approx(t_out, rel=1e-14)
+    assert max(steps) <= dt_max
+    assert min(steps) >= 0.5 * dt_max * (1 - 1e-12)
+    assert len(steps) == math.ceil(interval - 1e-9)
