@@ -154,6 +154,10 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     * ``ranking.csv``: the configurations of each blast ranked by wall
       impulse per method (1: the lowest impulse), ``rank_correlation.csv``:
       Spearman's ρ between the methods' rankings, per blast;
+    * ``wall_time.csv``: per blast and method, the number of runs and
+      their summed solver time (``wall_seconds``), JIT compile time
+      (``compile_seconds``) and, with ``seconds``, the time the runs made
+      now took (``run_seconds``);
     * ``agreement.csv`` (fv and another method): per configuration and
       method, the relative difference of the wall loads from fv's
       (:func:`compare.report.agreement`);
@@ -199,6 +203,9 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     pd.concat(ranks, names=["blast"]).to_csv(output / "ranking.csv")
     pd.concat({blast: rank_correlation(r) for blast, r in ranks.items()}, names=["blast"]).to_csv(
         output / "rank_correlation.csv")
+    timed = ["wall_seconds", "compile_seconds"] + (["run_seconds"] if seconds is not None else [])
+    groups = table.groupby(["blast", "method"], sort=False)
+    groups[timed].sum(min_count=1).assign(runs=groups.size()).to_csv(output / "wall_time.csv")
     if "fv" in set(table["method"]) and table["method"].nunique() > 1:
         agreement(table, AGREEMENT).to_csv(output / "agreement.csv", index=False)
     figures = output / "figures"

@@ -128,6 +128,9 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
                                                                          "wall_force_peak_fitted"]
     ranks = pd.read_csv(folder / "ranking.csv", index_col=[0, 1])
     assert ranks.loc[("moderate", "no obstacle (moderate)"), "fv"] == 3
+    spent = pd.read_csv(folder / "wall_time.csv", index_col=[0, 1]).loc[("moderate", "fv")]
+    assert spent["runs"] == 3 and spent["wall_seconds"] == pytest.approx(table["wall_seconds"].sum())
+    assert spent["run_seconds"] >= spent["wall_seconds"]
     saved = json.loads((folder / "wall_loads.json").read_text())
     assert len(saved) == 3 and math.isclose(saved[1]["wall_impulse_final"], by.loc["circle inline",
                                                                                      "wall_impulse_final"])
