@@ -164,8 +164,10 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     * figures: wall force and impulse of every configuration with its
       methods overlaid (``wall_force_<label>.png``), of every method and
       part of the study with its configurations overlaid
-      (``wall_force_<method>_<part>.png``), and schlieren snapshots at
-      1.7 ms per method and part (``schlieren_<method>_<part>.png``).
+      (``wall_force_<method>_<part>.png``), and schlieren and density
+      snapshots at 1.7 ms per method and part
+      (``schlieren_<method>_<part>.png``, ``density_<method>_<part>.png``:
+      the schlieren of a particle method's noisy density is mostly noise).
 
     Runs not finished are left out of the tables (listed as missing).
     ``seconds`` (run name -> seconds) adds the wall time the runs took
@@ -222,8 +224,11 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
                          names=[g[1] for g in group], scale=1e3, unit="ms", title=f"{method}, {part}")
         maps = [(ds, lab) for ds, lab in group if "y" in ds.dims and SNAPSHOT_TIME <= float(ds.time[-1])]
         if maps:
-            plots.schlieren_maps([m[0] for m in maps], figures / f"schlieren_{method}_{part}.png",
-                                 names=[f"{method}: {m[1]}" for m in maps], time=SNAPSHOT_TIME, columns=1)
+            shown, titles = [m[0] for m in maps], [f"{method}: {m[1]}" for m in maps]
+            plots.schlieren_maps(shown, figures / f"schlieren_{method}_{part}.png", names=titles,
+                                 time=SNAPSHOT_TIME, columns=1)
+            plots.field_maps(shown, "rho", figures / f"density_{method}_{part}.png", names=titles,
+                             time=SNAPSHOT_TIME, columns=1)
     if missing:
         print(f"{len(missing)} runs not finished: {', '.join(missing)}")
     return table

@@ -160,10 +160,12 @@ def richardson(df, convergence, path, title: str) -> Path:
     return _save(fig, path)
 
 
-def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None) -> Path:
+def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None,
+               columns: int | None = None) -> Path:
     """2D maps of ``field`` at ``time`` (default: the last output time), one
     panel per run on one colour scale (the reference first, if given), and
-    under them each run minus the reference on one symmetric scale."""
+    under them each run minus the reference on one symmetric scale. Without
+    a reference the panels stand in ``columns`` columns (default: one row)."""
     names = names or [None] * len(runs)
     t = float(runs[0].time[-1]) if time is None else time
     maps = [ds[field].sel(time=t, method="nearest") for ds in runs]
@@ -173,15 +175,15 @@ def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, name
     titles = ([ref_name] if ref is not None else []) + [_label(ds, n) for ds, n in zip(runs, names)]
     lo = min(float(np.nanmin(m)) for m in shown)
     hi = max(float(np.nanmax(m)) for m in shown)
-    rows = 2 if ref is not None else 1
-    fig, axes = plt.subplots(rows, len(shown), figsize=(3.2 * len(shown) + 1.2, 3.1 * rows + 0.5), squeeze=False,
-                             layout="constrained")
+    columns = len(shown) if ref is not None or columns is None else columns
+    fig, axes = _map_grid(runs[0], len(shown) + (len(shown) if ref is not None else 0), columns)
     var = runs[0][field]
     unit = var.attrs.get("units", "")
-    for ax, m, title in zip(axes[0], shown, titles):
+    panels = axes.flat[:len(shown)]
+    for ax, m, title in zip(panels, shown, titles):
         image = ax.pcolormesh(m.x, m.y, m, vmin=lo, vmax=hi, shading="nearest", cmap="viridis")
         ax.set_title(title, fontsize=8)
-    fig.colorbar(image, ax=list(axes[0]), label=f"{field} [{unit}]", shrink=0.9)
+    fig.colorbar(image, ax=list(panels), label=f"{field} [{unit}]", shrink=0.9)
     if ref is not None:
         differences = [m - ref for m in maps]
         limit = max(float(np.nanmax(np.abs(d))) for d in differences) or 1.0
@@ -204,16 +206,7 @@ def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0, columns: i
     domain's aspect ratio."""
     names = names or [None] * len(runs)
     t = float(runs[0].time[-1]) if time is None else time
-    columns = columns or len(runs)
-    rows = -(-len(runs) // columns)
-    x, y = runs[0].x.values, runs[0].y.values
-    width = 3.2 if columns > 1 else 9.0  # (a lone column: a wide channel across the page)
-    aspect = float(np.ptp(y) / np.ptp(x)) if x.size > 1 and y.size > 1 else 1.0
-    height = min(max(width * aspect, 1.0), 3.2)
-    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 0.6, (height + 0.5) * rows + 0.4),
-                             squeeze=False, layout="constrained")
-    for ax in axes.flat[len(runs):]:
-        ax.axis("off")
+    fig, axes = _map_grid(runs[0], len(runs), columns or len(runs))
     for ax, ds, name in zip(axes.flat, runs, names):
         shade = schlieren(ds["rho"].sel(time=t, method="nearest"), k=k)
         ax.pcolormesh(shade.x, shade.y, shade, vmin=0.0, vmax=1.0, shading="nearest", cmap="gray")
@@ -222,6 +215,22 @@ def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0, columns: i
     fig.suptitle(f"{runs[0].attrs['case']}: numerical schlieren exp(-{k:g} |grad rho| / max) at t = {t:.4g} s",
                  fontsize=10)
     return _save(fig, path, tight=False)
+
+
+def _map_grid(ds: xr.Dataset, panels: int, columns: int):
+    """``(fig, axes)``: ``panels`` map panels of ``ds``'s domain in
+    ``columns`` columns, each sized to the domain's aspect ratio (a lone
+    column: a wide channel across the page); panels past ``panels`` hidden."""
+    rows = -(-panels // columns)
+    x, y = ds.x.values, ds.y.values
+    width = 3.2 if columns > 1 else 9.0
+    aspect = float(np.ptp(y) / np.ptp(x)) if x.size > 1 and y.size > 1 else 1.0
+    height = min(max(width * aspect, 1.0), 3.2)
+    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2, (height + 0.5) * rows + 0.4),
+                             squeeze=False, layout="constrained")
+    for ax in axes.flat[panels:]:
+        ax.axis("off")
+    return fig, axes
 
 
 def _map_axes(axes) -> None:

@@ -135,7 +135,7 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
     assert len(saved) == 3 and math.isclose(saved[1]["wall_impulse_final"], by.loc["circle inline",
                                                                                      "wall_impulse_final"])
     figures = {p.name for p in (folder / "figures").iterdir()}
-    assert {"wall_force_fv_moderate.png", "wall_impulse_fv_moderate.png", "schlieren_fv_moderate.png",
+    assert {"wall_force_fv_moderate.png", "wall_impulse_fv_moderate.png", "schlieren_fv_moderate.png", "density_fv_moderate.png",
             "wall_force_circle_inline.png"} <= figures
     # run again: every run is found finished, nothing recomputed, the same table
     again = run_study(["fv"], ("moderate",), folder, dx={"fv": 4e-3}, workers=2, progress=False, configs=chosen)
