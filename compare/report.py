@@ -103,10 +103,16 @@ def wall_load_table(runs: list[xr.Dataset], labels: list[str]) -> pd.DataFrame:
     wall impulse at the final time)."""
     rows = []
     for ds, label in zip(runs, labels):
-        row = {"configuration": label, **_cost_row(ds, label), "t_end": float(ds.time[-1])}
+        row = {"configuration": label, **_cost_row(ds, label), "t_end": _end_time(ds)}
         row.update({k: v for k, v in measured(ds).items() if k.startswith("wall_")})
         rows.append(row)
     return pd.DataFrame(rows).drop(columns="run")
+
+
+def _end_time(ds: xr.Dataset) -> float:
+    """The time a run reached: the last of its output frames and of its
+    probe series (a run kept with one frame still holds its series whole)."""
+    return max(float(ds[t][-1]) for t in ("time", "t_probe") if t in ds.coords)
 
 
 def ranking(df: pd.DataFrame, quantity: str, item: str = "configuration") -> pd.DataFrame:

@@ -18,7 +18,7 @@ from cases.blast_study import configurations, run_study
 from cases.errors import InputError
 from cases.shapes import SHAPES
 from compare import exact
-from compare.report import agreement, rank_correlation, ranking
+from compare.report import agreement, rank_correlation, ranking, wall_load_table
 
 
 def test_the_moderate_part_is_the_seed_studys_eleven_configurations():
@@ -126,6 +126,10 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
         assert by.loc[label, "wall_impulse_final"] < 0.75 * by.loc["no obstacle (moderate)", "wall_impulse_final"]
         assert by.loc[label, "wall_force_peak_fitted"] < 0.75 * by.loc["no obstacle (moderate)",
                                                                          "wall_force_peak_fitted"]
+    assert table["t_end"].to_numpy() == pytest.approx(3e-3)
+    # a run kept with one frame (studies/blast_array/keep.py) reads as having reached 3 ms: its series are whole
+    run = xr.open_dataset(next((folder / "runs").glob("blast_array_*.nc")))
+    assert wall_load_table([run.isel(time=[0])], ["kept"])["t_end"].item() == pytest.approx(3e-3)
     ranks = pd.read_csv(folder / "ranking.csv", index_col=[0, 1])
     assert ranks.loc[("moderate", "no obstacle (moderate)"), "fv"] == 3
     spent = pd.read_csv(folder / "wall_time.csv", index_col=[0, 1]).loc[("moderate", "fv")]
