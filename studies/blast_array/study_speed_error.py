@@ -1,0 +1,61 @@
+"""Speed against error of the whole moderate study, per method and spacing.
+
+    python studies/blast_array/study_speed_error.py
+
+One point per method and spacing whose runs of the 10 arrays are kept in
+``<method>/runs``: the solver time summed over the 10, against the mean
+relative difference of the wall impulse at 3 ms (and of the raw peak wall
+force) from fv at 0.5 mm (``fv/wall_loads_0.5mm.csv``, the finest fv run
+of every array). Writes ``methods/speed_versus_error.csv`` and
+``methods/speed_versus_error_<quantity>.png``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from cases.blast_study import configurations
+from cases.sweep import finished
+from compare import plots
+from compare.io import read
+
+HERE = Path(__file__).parent
+QUANTITIES = ("wall_impulse_final", "wall_force_peak_raw")
+
+
+def study_points(reference: pd.DataFrame) -> pd.DataFrame:
+    """One row per method and spacing with all 10 arrays kept: summed
+    solver time and the mean relative error of each of ``QUANTITIES``."""
+    arrays = [c for c in configurations(("moderate",)) if dict(c.parameters).get("shape")]
+    rows = []
+    for method in ("fv", "sph", "dsmc"):
+        for dx in (2e-3, 1e-3):
+            paths = [HERE / method / "runs" / f"{c.run(method, dx).name}.nc" for c in arrays]
+            if not all(finished(p) for p in paths):
+                continue
+            runs = [read(p) for p in paths]
+            row = {"method": method, "dx": dx, "runs": len(runs),
+                   "wall_seconds": sum(float(ds.attrs["wall_seconds"]) for ds in runs)}
+            for q in QUANTITIES:
+                fine = [reference.loc[c.label, q] for c in arrays]
+                row[f"{q}_error"] = sum(abs(float(ds.attrs[q]) - f) / abs(f) for ds, f in zip(runs, fine)) / len(runs)
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def main() -> None:
+    reference = pd.read_csv(HERE / "fv" / "wall_loads_0.5mm.csv").set_index("configuration")
+    points = study_points(reference)
+    points.to_csv(HERE / "methods" / "speed_versus_error.csv", index=False)
+    for q in QUANTITIES:
+        name = q.replace("_", " ")
+        print(plots.speed_versus_error(points, f"{q}_error", HERE / "methods" / f"speed_versus_error_{q}.png",
+                                       f"moderate study, 10 arrays: {name} against fv at 0.5 mm",
+                                       ylabel=f"mean relative error of {name}"))
+    print(points.to_string(index=False))
+
+
+if __name__ == "__main__":
+    main()
