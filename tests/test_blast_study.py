@@ -128,8 +128,8 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
                                                                          "wall_force_peak_fitted"]
     assert table["t_end"].to_numpy() == pytest.approx(3e-3)
     # a run kept with one frame (studies/blast_array/keep.py) reads as having reached 3 ms: its series are whole
-    run = xr.open_dataset(next((folder / "runs").glob("blast_array_*.nc")))
-    assert wall_load_table([run.isel(time=[0])], ["kept"])["t_end"].item() == pytest.approx(3e-3)
+    with xr.open_dataset(next((folder / "runs").glob("blast_array_*.nc"))) as run:
+        assert wall_load_table([run.isel(time=[0])], ["kept"])["t_end"].item() == pytest.approx(3e-3)
     ranks = pd.read_csv(folder / "ranking.csv", index_col=[0, 1])
     assert ranks.loc[("moderate", "no obstacle (moderate)"), "fv"] == 3
     spent = pd.read_csv(folder / "wall_time.csv", index_col=[0, 1]).loc[("moderate", "fv")]
@@ -139,8 +139,8 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
     assert len(saved) == 3 and math.isclose(saved[1]["wall_impulse_final"], by.loc["circle inline",
                                                                                      "wall_impulse_final"])
     figures = {p.name for p in (folder / "figures").iterdir()}
-    assert {"wall_force_fv_moderate.png", "wall_impulse_fv_moderate.png", "schlieren_fv_moderate.png", "density_fv_moderate.png",
-            "wall_force_circle_inline.png"} <= figures
+    assert {"wall_force_fv_moderate.png", "wall_impulse_fv_moderate.png", "schlieren_fv_moderate.png",
+            "density_fv_moderate.png", "wall_force_circle_inline.png"} <= figures
     # run again: every run is found finished, nothing recomputed, the same table
     again = run_study(["fv"], ("moderate",), folder, dx={"fv": 4e-3}, workers=2, progress=False, configs=chosen)
     pd.testing.assert_frame_equal(again.drop(columns="run_seconds"), table.drop(columns="run_seconds"))
