@@ -10,7 +10,7 @@ import pytest
 import cases
 from compare.metrics import field_error
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.solve import solve
+from particle.dsmc.solve import landing_step, solve
 
 
 def test_specular_reflection_folds_the_path_back_and_counts_the_momentum():
@@ -250,8 +250,6 @@ def test_landing_steps_reach_the_output_time_without_a_sliver(interval):
     """Stepping toward an output time ``interval`` stable steps away lands on
     it exactly, never exceeds the stable step and never takes less than
     half of one (a sliver step would spike the particles' wall force)."""
-    from particle.dsmc.solve import landing_step
-
     dt_max, t, steps = 1e-6, 0.0, []
     t_out = interval * dt_max
     while t < t_out * (1 - 1e-14):

@@ -20,6 +20,7 @@ from cases.blast_study import configurations
 from cases.sweep import finished
 from compare import plots
 from compare.io import read
+from compare.report import wall_load_table
 
 HERE = Path(__file__).parent
 QUANTITIES = ("wall_impulse_final", "wall_force_peak_raw")
@@ -28,20 +29,19 @@ QUANTITIES = ("wall_impulse_final", "wall_force_peak_raw")
 def study_points(reference: pd.DataFrame) -> pd.DataFrame:
     """One row per method and spacing with all 10 arrays kept: summed
     solver time and the mean relative error of each of ``QUANTITIES``."""
-    arrays = [c for c in configurations(("moderate",)) if dict(c.parameters).get("shape")]
+    arrays = [c for c in configurations(("moderate",)) if c.case == "blast_array"]
+    labels = [c.label for c in arrays]
+    fine = reference.loc[labels, list(QUANTITIES)].to_numpy()
     rows = []
     for method in ("fv", "sph", "dsmc"):
         for dx in (2e-3, 1e-3):
             paths = [HERE / method / "runs" / f"{c.run(method, dx).name}.nc" for c in arrays]
             if not all(finished(p) for p in paths):
                 continue
-            runs = [read(p) for p in paths]
-            row = {"method": method, "dx": dx, "runs": len(runs),
-                   "wall_seconds": sum(float(ds.attrs["wall_seconds"]) for ds in runs)}
-            for q in QUANTITIES:
-                fine = [reference.loc[c.label, q] for c in arrays]
-                row[f"{q}_error"] = sum(abs(float(ds.attrs[q]) - f) / abs(f) for ds, f in zip(runs, fine)) / len(runs)
-            rows.append(row)
+            table = wall_load_table([read(p) for p in paths], labels)
+            errors = (abs(table[list(QUANTITIES)].to_numpy() - fine) / abs(fine)).mean(axis=0)
+            rows.append({"method": method, "dx": dx, "runs": len(table), "wall_seconds": table["wall_seconds"].sum(),
+                         **{f"{q}_error": e for q, e in zip(QUANTITIES, errors)}})
     return pd.DataFrame(rows)
 
 
