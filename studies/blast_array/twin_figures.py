@@ -2,7 +2,7 @@
 
     python studies/blast_array/twin_figures.py OUT fv=study/runs twin=twin/runs dsmc=study/runs ...
 
-For every moderate configuration, one figure per quantity
+For every configuration of the study, one figure per quantity
 (``OUT/wall_force_<label>.png``, ``OUT/wall_impulse_<label>.png``) with
 the runs of each ``name=folder`` pair that hold it, at the scene's spacing
 or at ``name=folder@dx``: e.g. ``twin=twin/runs`` for fv with Pullin's
@@ -17,7 +17,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from cases.blast_study import configurations, file_stem
+from cases.blast_study import PARTS, configurations, file_stem
 from cases.sweep import finished
 from compare import plots
 from compare.io import read
@@ -38,7 +38,7 @@ def run_sets(arguments: list[str]) -> list[tuple[str, Path, float | None]]:
 
 def main(output: str, *arguments: str) -> None:
     output = Path(output)
-    for config in configurations(("moderate",)):
+    for config in configurations(PARTS):
         runs, names = [], []
         for name, folder, dx in run_sets(list(arguments)):
             method = METHOD_OF.get(name.split("@")[0], name.split("@")[0])
