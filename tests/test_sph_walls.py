@@ -112,6 +112,32 @@ def test_virtual_particles_complete_the_fluid_lattice(obstacles):
     assert np.allclose(wall.volume, DX * DX)
 
 
+def test_no_virtual_particle_leaves_an_acute_corner():
+    """A lattice point just inside the 60° base corner of the blast array's
+    right-facing triangle, moved off the base along its normal, would cross
+    the slanted face into the fluid (at 2 mm, 6 such points stood 0.2 mm
+    out in the fluid, and a fluid particle meeting one there, six times its
+    mass, had no grad-h solution): such points are dropped, so every
+    virtual particle lies inside the solid and every fluid particle at
+    least half a spacing outside it."""
+    from cases.registry import get
+    from particle.sph.particles import place_2d
+
+    dx = 2e-3
+    scene = get("blast_array", shape="triangle_right", standoff=0.17, one_period=True)
+    triangle = Polygon(scene.obstacles[-1].vertices)
+    start = triangle.vertices[0]  # the base's lower corner
+    near = np.array([[start[0], start[1] + 0.35e-3], [start[0] + 0.2e-3, start[1] + 0.3e-3]])
+    assert np.all(union_phi((triangle,), near) <= 0)
+    assert np.all(union_phi((triangle,), near + [[0.5 * dx, 0.0], [0.5 * dx, 0.0]]) > 0)  # the move along −n̂ leaves
+    assert len(off_surface((triangle,), near, 0.5 * dx)) == 0
+    wall = walls(scene, dx, 8 * dx)
+    assert len(wall.x_virtual) > 200
+    assert np.all(union_phi(scene.obstacles, wall.x_virtual) <= 0)
+    fluid, _ = place_2d(scene, dx, scene.domain)
+    assert np.all(union_phi(scene.obstacles, fluid) >= 0.5 * dx - 1e-12)
+
+
 @pytest.mark.parametrize("obstacles", [(FLOOR_WEDGE,), (BUMP,), (WEDGE, BUMP)], ids=["wedge", "circle", "both"])
 def test_wall_particles_and_anchors(obstacles):
     wall = walls(scene_of(*obstacles), DX, H0)

@@ -299,8 +299,15 @@ def off_surface(obstacles, x, gap) -> np.ndarray:
     surface lie at any distance from it; moved off it by half a spacing,
     fluid and virtual particles start at least one spacing apart across
     the wall, as on a wall aligned with the lattice, and no fluid particle
-    sliding along the wall meets a virtual one at the surface."""
+    sliding along the wall meets a virtual one at the surface.
+
+    Near a corner sharper than a right angle a move along one face's
+    normal may carry a point across the other face (a point just inside
+    the 60° corner of a triangle, moved off its base, leaves through its
+    slanted face); such a point is dropped: the returned points are those
+    that stayed on their side, ``(m, 2)``, m ≤ n."""
     x = np.array(x, dtype=float)
+    inside = _union_distance(obstacles, x[:, 0], x[:, 1]) <= 0.0
     for shape in obstacles:
         phi = shape.signed_distance(x[:, 0], x[:, 1])
         near = np.flatnonzero(np.abs(phi) < gap)
@@ -309,7 +316,7 @@ def off_surface(obstacles, x, gap) -> np.ndarray:
             shift = np.where(phi[near] > 0.0, gap, -gap) - phi[near]
             x[near, 0] += shift * nx
             x[near, 1] += shift * ny
-    return x
+    return x[(_union_distance(obstacles, x[:, 0], x[:, 1]) <= 0.0) == inside]
 
 
 def nearest_wall(x_wall, x_virtual) -> np.ndarray:
