@@ -16,8 +16,9 @@ Particles
   ``−depth ≤ φ ≤ 0`` (``φ`` the union signed distance), inside the particle
   box (beyond a side of the box the side's ghosts, mirrored from fluid and
   virtual particles alike, stand in). Fluid (``φ > 0``) and virtual
-  points together are the complete lattice, so the initial summation density
-  is uniform across the surface. Each has the volume ``V_v = s_x s_y`` and
+  points together are the complete lattice (less the few points near a
+  corner sharper than a right angle that :func:`off_surface` drops), so the
+  initial summation density is uniform across the surface. Each has the volume ``V_v = s_x s_y`` and
   is tied to its nearest wall particle (``anchor``), offset
   ``d = x_v − x_w``.
 
