@@ -18,9 +18,9 @@ Particles
   virtual particles alike, stand in). Fluid (``φ > 0``) and virtual
   points together are the complete lattice (less the few points near a
   corner sharper than a right angle that :func:`off_surface` drops), so the
-  initial summation density is uniform across the surface. Each has the volume ``V_v = s_x s_y`` and
-  is tied to its nearest wall particle (``anchor``), offset
-  ``d = x_v − x_w``.
+  initial summation density is uniform across the surface. Each has the
+  volume ``V_v = s_x s_y`` and is tied to its nearest wall particle
+  (``anchor``), offset ``d = x_v − x_w``.
 
 Wall state (every step)
 -----------------------
