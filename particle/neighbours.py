@@ -41,8 +41,8 @@ from numba import prange
 
 from compare.checks import InputError
 
-__all__ = ["cell_grid", "counting_sort", "neighbour_lists", "neighbours", "padded", "periods", "renumbered", "separation", "separations",
-           "sort_order"]
+__all__ = ["cell_grid", "cell_support", "counting_sort", "nearby_maximum", "neighbour_lists", "neighbours", "padded",
+           "periods", "renumbered", "separation", "separations", "sort_order"]
 
 # Cells are made this much wider than max H / reach, so that a particle put
 # one cell off by round-off still finds every neighbour.
@@ -528,7 +528,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     Monaghan (2005) §7: cells ≥ max H / reach wide, counting sort,
     (2·reach+1)^dim-cell stencil, two parallel passes (count, fill). When a
     few particles are much wider than the rest the cells are sized for the
-    rest (:func:`_cell_support`) and the wide ones scan wider stencils.
+    rest (:func:`cell_support`) and the wide ones scan wider stencils.
     Cost O(N · neighbours).
     """
     x = _as_positions(x)
@@ -569,7 +569,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
             )
     H = np.ascontiguousarray(H)
     s = int(reach)
-    H_cell = _cell_support(H)
+    H_cell = cell_support(H)
     origin, width, ncell, per3, box = cell_grid(x, lo, hi, per, H_cell / s)
     cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
     start, order = counting_sort(cid, int(np.prod(ncell)))
@@ -636,6 +636,41 @@ def periods(lo, hi, periodic, dim):
     return box, half
 
 
+def nearby_maximum(x, values, lo, hi, periodic, distance) -> np.ndarray:
+    """For each point, a bound from above on the largest of ``values`` ((n,)
+    or (n, k): column by column) over the points within ``distance`` of it
+    (minimum image on periodic axes), itself included: the largest over the
+    3^dim cells around its own on a grid of cells at least ``distance``
+    wide. O(N) with a cell count capped as in :func:`cell_grid`; positions
+    may lie outside a non-periodic box."""
+    x = _as_positions(x)
+    n, dim = x.shape
+    values = np.asarray(values, dtype=np.float64)
+    if n == 0:
+        return values.copy()
+    lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
+    origin, width, ncell, per, _ = cell_grid(x, lo, hi, _as_periodic(periodic, dim), float(distance))
+    cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per[:dim])
+    cells = np.full((int(np.prod(ncell)),) + values.shape[1:], -np.inf)
+    np.maximum.at(cells, cid, values)
+    cells = cells.reshape(tuple(ncell[::-1]) + values.shape[1:])  # (z, y, x): the id is (cz·ny + cy)·nx + cx
+    for a in range(dim):
+        axis = 2 - a
+        if ncell[a] == 1:
+            continue
+        if per[a]:
+            cells = np.maximum(cells, np.maximum(np.roll(cells, 1, axis), np.roll(cells, -1, axis)))
+        else:
+            grown = cells.copy()
+            lower = [slice(None)] * cells.ndim
+            upper = [slice(None)] * cells.ndim
+            lower[axis], upper[axis] = slice(None, -1), slice(1, None)
+            np.maximum(grown[tuple(lower)], cells[tuple(upper)], out=grown[tuple(lower)])
+            np.maximum(grown[tuple(upper)], cells[tuple(lower)], out=grown[tuple(upper)])
+            cells = grown
+    return cells.reshape((-1,) + values.shape[1:])[cid]
+
+
 def padded(a) -> np.ndarray:
     """(n, 3) contiguous float copy of positions or vectors ``a`` (n, dim),
     zero beyond ``dim``: the layout :func:`separation` and the pair kernels read."""
@@ -661,7 +696,7 @@ def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=
     return offsets, index, dx, r
 
 
-def _cell_support(H) -> float:
+def cell_support(H) -> float:
     """The support the cells are sized for: ``max H``, unless the widest
     particles are few (H above the 95th percentile by more than a quarter),
     in which case the 95th percentile; the wider ones then scan stencils of

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from compare.checks import InputError
-from particle.neighbours import neighbour_lists, neighbours, renumbered, sort_order
+from particle.neighbours import nearby_maximum, neighbour_lists, neighbours, renumbered, sort_order
 
 
 def brute(x, H, lo, hi, periodic):
@@ -300,3 +300,24 @@ def test_renumbered_lists_hold_the_same_pairs_under_the_new_ids():
         np.testing.assert_array_equal(got, want)
     with pytest.raises(InputError, match="permutation"):
         renumbered(offsets, index, np.zeros(400, dtype=int))
+
+
+@pytest.mark.parametrize("dim, periodic", CONFIGS)
+def test_nearby_maximum_bounds_the_maximum_within_the_distance(dim, periodic):
+    # random values, one column and two; some points outside a walled box (mirror ghosts): the bound
+    # must hold for every point and be tight enough to be useful: below the global maximum for most
+    rng = np.random.default_rng(7)
+    lo, hi = np.zeros(dim), np.ones(dim)
+    x = rng.uniform(-0.2, 1.2, (400, dim))
+    for a, per in enumerate(periodic):
+        if per:
+            x[:, a] = rng.random(400)
+    values = rng.random((400, 2)) ** 8 - 0.5
+    distance = 0.12
+    hit, d = brute(x, np.full(400, distance), lo, hi, periodic)
+    np.fill_diagonal(hit, True)
+    exact = np.stack([np.where(hit, v[None, :], -np.inf).max(axis=1) for v in values.T], axis=1)
+    bound = nearby_maximum(x, values, lo, hi, periodic, distance)
+    assert bound.shape == values.shape and np.all(bound >= exact)
+    assert np.array_equal(nearby_maximum(x, values[:, 1], lo, hi, periodic, distance), bound[:, 1])
+    assert np.mean(bound < values.max(axis=0)) > 0.5

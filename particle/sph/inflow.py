@@ -105,10 +105,14 @@ class InflowBuffer:
         return eta * (self.mass / self.state(t)[0]) ** (1.0 / self.dim)
 
     def _columns(self, rho: float) -> np.ndarray:
-        """x of the columns upstream of the inlet at boundary density ``rho``, as deep as the layer."""
+        """x of the columns upstream of the inlet at boundary density ``rho``,
+        the last within one column of the layer's depth. Their count depends
+        on ``rho`` only, not on how far the layer has moved, so that it stays
+        the same while a column crosses the inlet (and the neighbour lists
+        can be kept: :meth:`particle.sph.lists.VerletLists.reusable`)."""
         mu = self.column_mass(rho)
         ahead = self.inflowed - self.entered
-        k = np.arange(int(np.floor((self.depth * rho + ahead) / mu + 0.5)))
+        k = np.arange(int(np.floor(self.depth * rho / mu)) + 1)
         return self.wall - ((k + 0.5) * mu - ahead) / rho
 
     def advance(self, t: float, dt: float) -> np.ndarray:

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particle.neighbours import neighbour_lists, periods, renumbered
+from particle.neighbours import cell_support, nearby_maximum, neighbour_lists, periods, renumbered
 from particle.sph.particles import mirror_ghosts, mirror_images
 
 
@@ -105,13 +105,19 @@ class VerletLists:
     def reusable(self, x_real, v_real, H_real, n) -> NeighbourLists | None:
         """The last lists at the moved positions, if they still hold every
         pair that can interact (Verlet 1967): a pair i, j apart by r now was
-        apart by at most r + δ_i + δ_j when they were built (δ: a particle's
-        displacement since), so particle i's list is still complete for the
-        radius R_i − δ_i − δ_max (R_i: the radius it was built for, δ_max:
-        the largest displacement). Usable when the particle count is the same
-        and every support is below that radius. Positions are compared index
-        by index, so a re-sort or a jump of an inflow buffer shows as a large
-        displacement and forces a new search."""
+        apart by at most r + |δ_i − δ_j| when they were built (δ: a
+        particle's displacement since), so particle i's list is still
+        complete for the radius R_i − max |δ_i − δ_j| over the j now within
+        H_i of it (R_i: the radius it was built for). Usable when the
+        particle count is the same and every support is below that radius.
+        The displacements of the j near i are bounded component by component
+        by the range over the cells around i
+        (:func:`~particle.neighbours.nearby_maximum`; the range of all for
+        the few supports wider than the cells), so gas that streams as a
+        whole, as at an inlet, keeps its lists, and a fast stream does not
+        use up the skin of the slow gas far from it. Positions are compared
+        index by index, so a re-sort or a jump of an inflow buffer shows as
+        a large displacement and forces a new search."""
         lists = self.last
         if lists is None or lists.n != n or lists.x.shape[0] != x_real.shape[0] + lists.src.size:
             return None
@@ -121,9 +127,15 @@ class VerletLists:
         moved = x - lists.x
         for a in np.flatnonzero(self.periodic):
             moved[:, a] -= self.box[a] * np.round(moved[:, a] / self.box[a])
-        shift = np.sqrt(np.einsum("ij,ij->i", moved, moved))
-        radius = lists.radius - shift - shift.max()
-        usable = np.all(np.concatenate([H_real, H_real[lists.src]]) < radius)
+        H = np.concatenate([H_real, H_real[lists.src]])
+        cells = cell_support(H)
+        span = nearby_maximum(x, np.concatenate([moved, -moved], axis=1), self.lo, self.hi, self.periodic, cells)
+        wide = H > cells
+        span[wide] = np.concatenate([moved.max(axis=0), -moved.min(axis=0)])
+        dim = moved.shape[1]
+        apart = np.maximum(span[:, :dim] - moved, moved + span[:, dim:])  # max |δ_i − δ_j| per axis
+        radius = lists.radius - np.sqrt(np.einsum("ij,ij->i", apart, apart))
+        usable = np.all(H < radius)
         self.seconds += _time.perf_counter() - t0
         return dataclasses.replace(lists, x=x, v=np.concatenate([v_real, gv]), radius=radius) if usable else None
 
