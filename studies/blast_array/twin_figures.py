@@ -49,8 +49,8 @@ def main(output: str, *arguments: str) -> None:
         if len(runs) < 2:
             continue
         for var in ("wall_force", "wall_impulse"):
-            print(plots.series(runs, var, output / f"{var}_{file_stem(config.label)}.png", names=names, scale=1e3, unit="ms",
-                               title=config.label))
+            print(plots.series(runs, var, output / f"{var}_{file_stem(config.label)}.png", names=names, scale=1e3,
+                               unit="ms", title=config.label))
 
 
 if __name__ == "__main__":
