@@ -66,7 +66,7 @@ from gridref.march import march
 from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
-from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
+from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
 from particle.sph.solve import Evaluation, GasSPH, Particles
 
 #: a cell keeps its particles until its jumps fall below this fraction of the threshold
@@ -277,10 +277,9 @@ class Coupling:
         _, vb, _, ub, Hb, _ = self.boundary(W0, xb, mb)
         s, t1 = t, t + dt
         while s < t1 * (1 - 1e-14):
-            speed = E.vsig + np.linalg.norm(P.v, axis=1)
             cb = np.sqrt(self.gamma * (self.gamma - 1.0) * ub)
-            ds = self.cfl_sph * min(float(np.min(0.5 * E.H / speed)),
-                                    float(np.min(0.5 * Hb / (cb + np.linalg.norm(vb, axis=1)), initial=np.inf)))
+            ds = min(time_step(P, E, self.cfl_sph),
+                     self.cfl_sph * float(np.min(0.5 * Hb / (cb + np.linalg.norm(vb, axis=1)), initial=np.inf)))
             ds = min(ds, t1 - s)
             xb = self.sph.verlet.wrapped(xb + ds * vb)
             a = (s + ds - t) / dt

@@ -266,3 +266,23 @@ def test_reused_neighbour_lists_change_nothing_but_round_off(monkeypatch):
     a, b = reused.isel(time=-1), fresh.isel(time=-1)
     for name in ("rho", "p", "u", "v"):
         np.testing.assert_allclose(a[name], b[name], rtol=1e-7, atol=1e-7 * float(np.abs(b[name]).max()))
+
+
+def test_a_particle_running_away_stops_the_run_at_a_collapsed_time_step(monkeypatch):
+    # a particle's speed and energy blowing up while staying positive and finite shortens the
+    # step without end; below MIN_STEP_FRACTION of the run's duration the run stops, says where,
+    # and keeps what it computed
+    integrator = importlib.import_module("particle.sph.integrator")
+    n = 50
+    P = dataclasses.make_dataclass("P", ["x", "v", "u"])(np.zeros((n, 2)), np.ones((n, 2)), np.ones(n))
+    E = dataclasses.make_dataclass("E", ["H", "vsig"])(np.full(n, 1e-2), np.full(n, 300.0))
+    P.x[17], P.v[17], P.u[17], E.vsig[17] = (0.61, 0.09), (1e9, 0.0), 3e17, 2e9
+    assert integrator.time_step(P, E, 0.25) == pytest.approx(0.25 * 0.5e-2 / (2e9 + 1e9))
+    with pytest.raises(integrator.Unstable, match=r"x = \[0.61, 0.09\] m moves at 1e\+09 m/s"):
+        integrator.time_step(P, E, 0.25, shortest=1e-12)
+    # through a run: a floor above the first step stops it at once, with its first frame kept
+    solve = importlib.import_module("particle.sph.solve")
+    monkeypatch.setattr(solve, "MIN_STEP_FRACTION", 0.1)
+    with pytest.raises(cases.SolverFailed, match=r"sph became unstable at t = 0 s \(step 1\): the time step fell") as e:
+        cases.run(cases.get("sod"), "sph", dx=0.02, progress=False)
+    assert e.value.partial is not None and e.value.partial.sizes["time"] == 1

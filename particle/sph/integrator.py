@@ -30,8 +30,32 @@ SEARCH_SLACK = 1.25
 LOOKAHEAD_STEPS = 4
 
 
+#: a run whose time step falls below this fraction of its duration (more than 1e9 steps to go) has run away
+MIN_STEP_FRACTION = 1e-9
+
+
 class Unstable(FloatingPointError):
-    """A step that left a particle with a non-positive internal energy or a non-finite velocity."""
+    """A step that left a particle with a non-positive internal energy or a non-finite velocity, or a
+    time step that collapsed."""
+
+
+def time_step(P, E, cfl: float, shortest: float = 0.0) -> float:
+    """The step Δt = cfl min_i ½ H_i/(v_sig,i + |v_i|) (the signal speed of
+    the viscosity, Monaghan 1997, J. Comput. Phys. 136, 298, plus the
+    particle's own speed) of the particles ``P`` with their evaluation
+    ``E``. Raises :class:`Unstable`, naming the particle that sets it,
+    where it falls below ``shortest``: a particle running away with speed
+    and energy (positive and finite, so no step catches it) would otherwise
+    stall the run at an ever shorter step."""
+    speed = E.vsig + np.linalg.norm(P.v, axis=1)
+    limits = 0.5 * E.H / speed
+    k = int(np.argmin(limits))
+    dt = cfl * float(limits[k])
+    if not dt >= shortest:
+        raise Unstable(f"the time step fell to {dt:.3g} s: the particle at x = {P.x[k].round(6).tolist()} m moves at "
+                       f"{np.linalg.norm(P.v[k]):.3g} m/s with signal speed {E.vsig[k]:.3g} m/s and specific internal "
+                       f"energy {P.u[k]:.3g} J/kg")
+    return dt
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ from particle.neighbours import neighbour_lists, padded, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
-from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog
+from particle.sph.integrator import MIN_STEP_FRACTION, SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
 from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import (
     check_supported,
@@ -305,16 +305,15 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
                         P, E = P.take(order), E.take(order)
                         sph.verlet.renumber(order)
-                    speed = E.vsig + np.linalg.norm(P.v, axis=1)
-                    dt = min(cfl * float(np.min(0.5 * E.H / speed)), t_out - t)
-                    entering = None if not inflow else (
-                        # buffer particles that crossed the inlet join the fluid with the boundary state
-                        lambda Q, t=t, dt=dt: _entering(inflow, t, dt, eta, Q.m[0], alpha_min))
                     try:
+                        dt = min(time_step(P, E, cfl, MIN_STEP_FRACTION * t_end), t_out - t)
+                        entering = None if not inflow else (
+                            # buffer particles that crossed the inlet join the fluid with the boundary state
+                            lambda Q, t=t, dt=dt: _entering(inflow, t, dt, eta, Q.m[0], alpha_min))
                         Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
                                                        entering, lambda Q: sph.retained(Q.x))
                     except Unstable as err:
-                        raise run.failure(f"sph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
+                        raise run.failure(f"sph became unstable at t = {t:.6g} s (step {run.n_steps + 1}): "
                                           f"{err}.", t, lambda: run.fields(P, E)) from None
                     except FloatingPointError as err:
                         raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
