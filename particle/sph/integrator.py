@@ -28,8 +28,6 @@ from particle.sph.walls import reflect_into_fluid
 SEARCH_SLACK = 1.25
 #: steps of support growth (at the rate ∇·v/d) a new search's lists allow for
 LOOKAHEAD_STEPS = 4
-
-
 #: a run whose time step falls below this fraction of its duration (more than 1e9 steps to go) has run away
 MIN_STEP_FRACTION = 1e-9
 
