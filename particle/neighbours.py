@@ -102,6 +102,20 @@ def counting_sort(cid, ntot):
     return start, order
 
 
+@numba.njit(cache=True)
+def _cell_maxima(cid, values, ntot):
+    """Column by column, the largest of ``values`` (n, k) in each of the
+    ``ntot`` cells (−inf in an empty cell)."""
+    n, k = values.shape
+    out = np.full((ntot, k), -np.inf)
+    for i in range(n):
+        c = cid[i]
+        for j in range(k):
+            if values[i, j] > out[c, j]:
+                out[c, j] = values[i, j]
+    return out
+
+
 @numba.njit(cache=True, parallel=True)
 def _gather(x, H, order, cid, ncell, origin, per, box):
     """Positions (wrapped into the box on periodic axes) and H in cell order,
@@ -651,8 +665,7 @@ def nearby_maximum(x, values, lo, hi, periodic, distance) -> np.ndarray:
     lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
     origin, width, ncell, per, _ = cell_grid(x, lo, hi, _as_periodic(periodic, dim), float(distance))
     cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per[:dim])
-    cells = np.full((int(np.prod(ncell)),) + values.shape[1:], -np.inf)
-    np.maximum.at(cells, cid, values)
+    cells = _cell_maxima(cid, values.reshape(n, -1), int(np.prod(ncell)))
     cells = cells.reshape(tuple(ncell[::-1]) + values.shape[1:])  # (z, y, x): the id is (cz·ny + cy)·nx + cx
     for a in range(dim):
         axis = 2 - a
