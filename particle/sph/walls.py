@@ -52,9 +52,9 @@ depth ``δ`` behind the wall plane.
   gradient, ``φ_w = φ̄_w``.
 * No fluid particle reaches ``w`` (zero total weight): ``φ_w`` is the state
   of the nearest fluid particle, zero gradient.
-* Positivity: for ρ and p each correction ``δ`` (centroid → wall here,
-  wall → virtual below) is limited to ``−½ φ ≤ δ ≤ φ``, so the corrected
-  value stays within ``[½ φ, 2 φ]`` of the value it corrects.
+* Positivity: for ρ and p the correction ``δ`` (centroid → wall) is
+  limited to ``−½ φ ≤ δ ≤ φ``, so the corrected value stays within
+  ``[½ φ, 2 φ]`` of the value it corrects.
 
 Virtual state (every step)
 --------------------------
@@ -63,11 +63,27 @@ Taylor expansion about the wall particle is taken at the virtual particle's
 mirror image across the wall's tangent, offset ``d_m = d − 2 (d·n̂_w) n̂_w``
 (the fluid state a plane-wall mirror ghost would carry, so the wall is a
 symmetry plane of pressure and density to first order):
-``ρ_v = ρ_w + ∇ρ_w·d_m``, ``p_v = p_w + ∇p_w·d_m`` (limited as above),
+``ρ_v = ρ_w + ∇ρ_w·d_m``, ``p_v = p_w + ∇p_w·d_m``,
 ``v_m = v_w + (∇v_w)·d_m`` and the slip-wall mirror about the anchor's
 normal ``v_v = v_m − 2 (v_m·n̂_w) n̂_w``, so fluid approaching the wall meets
 virtual particles approaching it from the other side; mass
 ``m_v = ρ_v V_v``, support ``H_v = η √V_v`` and ``u_v = p_v / ((γ − 1) ρ_v)``.
+
+Bounds: ``ρ_v``, ``p_v/ρ_v`` and each component of ``v_m`` are clipped to
+the range of that quantity over the fluid particles in front of the anchor
+(those reaching it from the fluid side of its tangent, ``(x_j − x_w)·n̂_w ≥
+0``; where none is in front, all that reach it), the local-extremum bound of
+MUSCL limiters (Barth & Jespersen 1989, AIAA 89-0366) applied to the
+extrapolation. Linear ρ, p and v are untouched where the mirror image lies
+within the convex hull of those particles (a linear function and a ratio
+of two, p/ρ, take their extremes over a convex set at its corners); what
+the bounds stop is a wall acting as a source.
+Extrapolated apart, ρ and p may each be off by a factor of a few where the
+gradients are steep and one-sided (behind the apex of an obstacle in a
+strong blast, where the wake is near vacuum), and a virtual particle hotter
+than every fluid particle near it heats them (artificial conduction,
+compression by virtual velocities far above the fluid's), which raises the
+wall state in turn: the run runs away.
 
 :func:`reflect_into_fluid` is the safeguard that no particle ends a step
 inside a solid: it mirrors such a particle across the surface.
@@ -415,6 +431,22 @@ def _limited(phi, delta):
     return min(max(delta, -0.5 * phi), phi)
 
 
+@numba.njit(cache=True, inline="always")
+def _spanned(state, f):
+    """Field ``f`` of the fields a virtual particle is bounded in, ``(ρ, p/ρ,
+    v_x, v_y)``, of the fluid state ``(ρ, p, v_x, v_y)``."""
+    return state[1] / state[0] if f == 1 else state[f]
+
+
+@numba.njit(cache=True, inline="always")
+def _widen(span, state):
+    """Widen the ranges ``span (4, 2)`` of :func:`_spanned`'s fields to hold ``state``."""
+    for f in range(span.shape[0]):
+        value = _spanned(state, f)
+        span[f, 0] = min(span[f, 0], value)
+        span[f, 1] = max(span[f, 1], value)
+
+
 @numba.njit(cache=True, parallel=True)
 def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
     """Skewed-kernel Shepard values moved to the wall point with the corrected
@@ -425,6 +457,7 @@ def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
     value = np.zeros((nw, nf))
     grad = np.zeros((nw, nf, 2))
     reached = np.zeros(nw, dtype=np.bool_)
+    span = np.empty((nw, nf, 2))  # per field of _spanned: its range over the fluid in front
     for w in prange(nw):
         lx = -c * normal[w, 0]
         ly = -c * normal[w, 1]
@@ -432,6 +465,9 @@ def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
         total = 0.0
         cx = 0.0
         cy = 0.0
+        for f in range(nf):
+            span[w, f, 0] = np.inf
+            span[w, f, 1] = -np.inf
         for q in range(a, b):
             j = index[q]
             wq = V[j] * skewed_w(kind, dx[q, 0], dx[q, 1], H[j], 2, lx, ly)
@@ -440,11 +476,16 @@ def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
             cy -= wq * dx[q, 1]
             for f in range(nf):
                 value[w, f] += wq * fields[j, f]
+            if wq > 0.0 and dx[q, 0] * normal[w, 0] + dx[q, 1] * normal[w, 1] <= 0.0:  # (x_j − x_w)·n̂ ≥ 0
+                _widen(span[w], fields[j])
         if not total > 0.0:
             for f in range(nf):
                 value[w, f] = 0.0
             continue
         reached[w] = True
+        if span[w, 0, 0] > span[w, 0, 1]:  # no fluid in front, only the erf tail behind: its range
+            for q in range(a, b):
+                _widen(span[w], fields[index[q]])
         cx /= total
         cy /= total
         for f in range(nf):
@@ -483,7 +524,7 @@ def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
             grad[w, f, 1] = g1
             delta = -(g0 * cx + g1 * cy)  # ∇φ · (x_w − x̄_w)
             value[w, f] += _limited(value[w, f], delta) if f < _N_POSITIVE else delta
-    return value, grad, reached
+    return value, grad, reached, span
 
 
 def _fluid_arrays(x, v, rho, p, m, H):
@@ -519,6 +560,15 @@ def wall_state(wall, x, v, rho, p, m, H, kind, skew=SKEW) -> tuple[np.ndarray, n
     (0 gives the plain kernel). A wall particle no fluid particle reaches
     takes the state of the nearest fluid particle, with zero gradient.
     """
+    return _state_at_walls(wall, x, v, rho, p, m, H, kind, skew)[:2]
+
+
+def _state_at_walls(wall, x, v, rho, p, m, H, kind, skew):
+    """:func:`wall_state`'s values and gradients and ``span (n_w, 4, 2)``,
+    the smallest and largest ρ, p/ρ, v_x and v_y of the fluid particles in
+    front of each wall particle (on the fluid side of its tangent, within
+    their supports; all that reach it where none is in front; the nearest
+    one's where none reaches)."""
     if not isinstance(wall, Wall):
         raise InputError("wall must be the Wall returned by walls().")
     kind = kernel_id(kind)
@@ -530,16 +580,25 @@ def wall_state(wall, x, v, rho, p, m, H, kind, skew=SKEW) -> tuple[np.ndarray, n
         x, source = periodic_images(x, wall.lo, wall.period, float(H.max()))
         fields, V, H = fields[source], V[source], H[source]
     offsets, index, dx = points_within_support(wall.x_wall, x, H)
-    value, grad, reached = _wall_fields(kind, wall.normal_wall, offsets, index, dx, fields, V, H, skew)
+    value, grad, reached, span = _wall_fields(kind, wall.normal_wall, offsets, index, dx, fields, V, H, skew)
     lost = np.flatnonzero(~reached)
     if lost.size:
         _, j = cKDTree(x).query(wall.x_wall[lost])
         value[lost] = fields[j]
-    return value, grad
+        nearest = fields[j].copy()
+        nearest[:, 1] /= nearest[:, 0]
+        span[lost] = nearest[:, :, None]
+    return value, grad, span
+
+
+@numba.njit(cache=True, inline="always")
+def _clipped(value, bounds):
+    """``value`` clipped to ``[bounds[0], bounds[1]]``."""
+    return min(max(value, bounds[0]), bounds[1])
 
 
 @numba.njit(cache=True, parallel=True)
-def _extrapolated(value, grad, anchor, offset, normal, volume, eta, gamma):
+def _extrapolated(value, grad, span, anchor, offset, normal, volume, eta, gamma):
     """Virtual particles' velocity, density, specific energy, support and mass
     by the Taylor expansion about their anchors, evaluated at their mirror
     images (module docstring)."""
@@ -555,15 +614,15 @@ def _extrapolated(value, grad, anchor, offset, normal, volume, eta, gamma):
         dn = offset[i, 0] * normal[w, 0] + offset[i, 1] * normal[w, 1]
         d0 = offset[i, 0] - 2.0 * dn * normal[w, 0]
         d1 = offset[i, 1] - 2.0 * dn * normal[w, 1]
-        r = value[w, 0] + _limited(value[w, 0], grad[w, 0, 0] * d0 + grad[w, 0, 1] * d1)
-        pv = value[w, 1] + _limited(value[w, 1], grad[w, 1, 0] * d0 + grad[w, 1, 1] * d1)
-        vx = value[w, 2] + grad[w, 2, 0] * d0 + grad[w, 2, 1] * d1
-        vy = value[w, 3] + grad[w, 3, 0] * d0 + grad[w, 3, 1] * d1
+        r = _clipped(value[w, 0] + grad[w, 0, 0] * d0 + grad[w, 0, 1] * d1, span[w, 0])
+        pv = value[w, 1] + grad[w, 1, 0] * d0 + grad[w, 1, 1] * d1
+        vx = _clipped(value[w, 2] + grad[w, 2, 0] * d0 + grad[w, 2, 1] * d1, span[w, 2])
+        vy = _clipped(value[w, 3] + grad[w, 3, 0] * d0 + grad[w, 3, 1] * d1, span[w, 3])
         vn = vx * normal[w, 0] + vy * normal[w, 1]
         vel[i, 0] = vx - 2.0 * vn * normal[w, 0]
         vel[i, 1] = vy - 2.0 * vn * normal[w, 1]
         rho[i] = r
-        u[i] = pv / ((gamma - 1.0) * r)
+        u[i] = _clipped(pv / r, span[w, 1]) / (gamma - 1.0)
         Hv[i] = eta * math.sqrt(volume[i])
         mv[i] = r * volume[i]
     return vel, rho, u, Hv, mv
@@ -577,16 +636,17 @@ def virtual_state(wall, x, v, rho, p, m, H, kind, eta, gamma, skew=SKEW):
     velocities ``(n_v, 2)``, density, specific internal energy
     ``p_v/((γ−1)ρ_v)``, support ``η √V_v`` and mass ``ρ_v V_v`` (each
     ``(n_v,)``): the Taylor expansion about the anchor wall particle taken
-    at the virtual particle's mirror image across the wall's tangent (ρ and p
-    corrections limited to ``[−½ φ_w, φ_w]``), the velocity then mirrored
-    about the anchor's normal (slip wall).
+    at the virtual particle's mirror image across the wall's tangent, ρ, p/ρ
+    and each velocity component clipped to their range over the fluid in
+    front of the anchor (module docstring), the velocity then mirrored about
+    the anchor's normal (slip wall).
     """
     eta = positive("eta", eta)
     gamma = positive("gamma", gamma)
     if not gamma > 1.0:
         raise InputError(f"gamma must be > 1; got {gamma:g}.")
-    value, grad = wall_state(wall, x, v, rho, p, m, H, kind, skew)
-    vv, rhov, uv, Hv, mv = _extrapolated(value, grad, wall.anchor, wall.offset, wall.normal_wall,
+    value, grad, span = _state_at_walls(wall, x, v, rho, p, m, H, kind, skew)
+    vv, rhov, uv, Hv, mv = _extrapolated(value, grad, span, wall.anchor, wall.offset, wall.normal_wall,
                                          wall.volume, eta, gamma)
     return np.array(wall.x_virtual), vv, rhov, uv, Hv, mv
 
