@@ -1,6 +1,7 @@
 """SPH obstacle walls (particle.sph.walls, SPEC §3.1): the virtual particles
 complete the fluid lattice, the skewed-kernel wall state reproduces linear
-fields, the slip mirror, the virtual masses and the near-wall density, the
+fields, the virtual state stays within the fluid's range, the slip mirror,
+the virtual masses and the near-wall density, the
 points-in-support search, and the safeguard that puts particles back into
 the fluid."""
 
