@@ -10,7 +10,8 @@ A result is one :class:`xarray.Dataset` with
   ``solid`` on ``([y,] x)``;
 * series on ``(t_probe, probe)``: ``p_probe``, ``eta_probe``; on ``(t_probe,)``:
   ``wall_force``, ``wall_impulse``;
-* the attributes of :data:`REQUIRED_ATTRS`.
+* the attributes of :data:`REQUIRED_ATTRS`, and ``source_revision`` (the git
+  commit of the code) when run from a checkout.
 
 :func:`result` builds such a Dataset with units and long names filled in;
 :func:`validate` accepts one or raises :class:`SchemaError` naming what is
@@ -21,7 +22,9 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import subprocess
 from importlib import metadata
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -71,6 +74,31 @@ def version() -> str:
         return metadata.version("partmesh")
     except metadata.PackageNotFoundError:  # running from a source tree
         return "0+unknown"
+
+
+def source_revision() -> str | None:
+    """The git commit of the source tree this module was imported from,
+    with ``+dirty`` when that tree holds uncommitted changes to tracked
+    files; None outside a git checkout (an installed wheel) or without git.
+    Read once, at import, so a run names the code it loaded even if the
+    tree changes while it runs."""
+    root = Path(__file__).resolve().parent.parent
+
+    def git(*args) -> str:
+        return subprocess.run(["git", "-C", str(root), *args], capture_output=True, text=True, timeout=10,
+                              check=True).stdout.strip()
+
+    try:
+        if Path(git("rev-parse", "--show-toplevel")).resolve() != root:
+            return None
+        commit = git("rev-parse", "HEAD")
+        dirty = git("status", "--porcelain", "--untracked-files=no")
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return commit + ("+dirty" if dirty else "")
+
+
+SOURCE_REVISION = source_revision()
 
 
 def _spatial_dims(ndim: int) -> tuple[str, ...]:
@@ -136,6 +164,8 @@ def result(
         created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         status="ok",
     )
+    if SOURCE_REVISION:
+        ds.attrs["source_revision"] = SOURCE_REVISION
     ds.attrs.update(attrs)
     return ds
 

@@ -4,12 +4,15 @@ checked reads) on a real fv run."""
 from __future__ import annotations
 
 import json
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
 import cases
+import compare.schema
 from compare.io import read, write
 from compare.schema import REQUIRED_ATTRS, SchemaError, parameters, validate
 
@@ -47,6 +50,19 @@ def test_run_result_follows_the_schema(scene, run_result):
     np.testing.assert_allclose(ds.time.values, scene.output.times)
     # e = p/((γ − 1) rho) for an ideal gas
     np.testing.assert_allclose(ds.e.values, ds.p.values / (0.4 * ds.rho.values), rtol=1e-12)
+
+
+def test_a_run_names_the_commit_of_the_code_it_ran(run_result):
+    """Made from a git checkout (as the README installs it), a result names
+    the checkout's commit, read here with git independently of the code."""
+    root = Path(compare.schema.__file__).resolve().parent.parent
+    git = subprocess.run(["git", "-C", str(root), "rev-parse", "--show-toplevel", "HEAD"], capture_output=True,
+                         text=True)
+    if git.returncode or Path(git.stdout.split()[0]).resolve() != root:
+        assert "source_revision" not in run_result.attrs
+        return
+    commit = git.stdout.split()[1]
+    assert run_result.attrs["source_revision"] in (commit, commit + "+dirty")
 
 
 def test_parameters_repeat_the_run(scene, run_result):
