@@ -1,0 +1,159 @@
+"""The tables of this record's README, printed as markdown from its report files.
+
+    python studies/blast_array/tables.py methods    # agreement with fv, fv at 0.5 mm, ranking
+    python studies/blast_array/tables.py variants   # sph and dsmc wall loads, agreement, ranking
+    python studies/blast_array/tables.py ladder     # the three levels of each method's ladder
+
+``methods`` reads ``methods/`` (the moderate study of the three methods at
+1 mm), ``fv/wall_loads_0.5mm.csv`` and ``dsmc/twin_wall_loads_1mm.csv``;
+``variants`` reads ``variants/`` (fv at 1 mm, sph and dsmc at 2 mm),
+``fv/wall_loads_variants_strong_2mm.csv`` and
+``dsmc/twin_wall_loads_variants_strong_2mm.csv``; ``ladder`` reads
+``ladder/ladder.csv``. Relative differences are
+(q − q_fv)/|q_fv| in per cent, in bold beyond what issue 6 asks of the
+method (10 % for sph, 15 % for dsmc).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+from compare.report import agreement
+
+HERE = Path(__file__).parent
+#: the largest relative difference from fv each particle method is asked to keep to
+TOLERANCE = {"sph": 0.10, "dsmc": 0.15}
+#: raw peak wall force, fitted peak wall force, wall impulse at the final time
+LOADS = ("wall_force_peak_raw", "wall_force_peak_fitted", "wall_impulse_final")
+
+
+def percent(value: float, tolerance: float | None = None) -> str:
+    """``value`` as a signed percentage with one decimal (a true minus
+    sign), in bold where its magnitude exceeds ``tolerance``."""
+    text = f"{100 * value:+.1f}".replace("-", "−")
+    return f"**{text}**" if tolerance is not None and abs(value) > tolerance else text
+
+
+def markdown(header: list[str], rows: list[list[str]]) -> str:
+    """A markdown table."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return "\n".join(lines + ["| " + " | ".join(row) + " |" for row in rows])
+
+
+def differences(loads: pd.DataFrame, reference: pd.DataFrame, quantities=LOADS) -> pd.DataFrame:
+    """Relative differences of ``quantities`` of every method of ``loads``
+    from the fv runs of ``reference``, indexed by configuration and method."""
+    table = pd.concat([reference[reference["method"] == "fv"], loads[loads["method"] != "fv"]])
+    return agreement(table, quantities).set_index(["configuration", "method"])
+
+
+def tolerance(column: str) -> float | None:
+    """The tolerance of the method a column shows (``"sph 2 mm"``: sph's)."""
+    return TOLERANCE.get(column.split()[0])
+
+
+def agreement_table(loads: pd.DataFrame, columns: dict[str, pd.DataFrame], label=str) -> str:
+    """One row per configuration of ``loads``; per column (a name and its
+    wall-load table), the raw / fitted peak force and impulse of its runs
+    relative to fv's in ``loads`` (bold beyond the method's tolerance)."""
+    diff = differences(pd.concat([t.assign(method=name) for name, t in columns.items()]), loads)
+    rows = []
+    for config in loads.loc[loads["method"] == "fv", "configuration"]:
+        cells = []
+        for name in columns:
+            if (config, name) not in diff.index:
+                cells.append("—")
+                continue
+            d = diff.loc[(config, name)]
+            cells.append(" / ".join(percent(d[q], tolerance(name)) for q in LOADS) + " %")
+        rows.append([label(config), *cells])
+    return markdown(["configuration", *columns], rows)
+
+
+def loads_table(loads: pd.DataFrame, method: str) -> str:
+    """The wall loads of one method's runs, as the seed study tabulates them."""
+    rows = []
+    for _, r in loads[loads["method"] == method].iterrows():
+        rows.append([r["configuration"], f"{1e3 * r['dx']:.3g}", f"{r['wall_peak_pressure_fitted'] / 1e3:.0f}",
+                     f"{1e3 * r['wall_arrival_time']:.4f}",
+                     f"{r['wall_force_peak_raw'] / 1e3:.1f} / {r['wall_force_peak_fitted'] / 1e3:.1f}",
+                     f"{r['wall_impulse_final']:.2f}", r["status"], f"{r['wall_seconds']:.0f}"])
+    return markdown(["configuration", "dx [mm]", "peak wall pressure, fitted [kPa]", "arrival [ms]",
+                     "peak force raw / fitted [kN/m]", "impulse at t_end [N s/m]", "status", "solver time [s]"], rows)
+
+
+def ranking_table(folder: Path, label=str) -> str:
+    """The ranks by wall impulse per method, and Spearman's ρ between methods."""
+    ranks = pd.read_csv(folder / "ranking.csv")
+    methods = [c for c in ranks.columns if c not in ("blast", "configuration")]
+    rows = [[label(r["configuration"]), *(f"{r[m]:.0f}" for m in methods)] for _, r in ranks.iterrows()]
+    rho = pd.read_csv(folder / "rank_correlation.csv")
+    pairs = [f"{rho.loc[i, 'blast']} {a}–{b} {rho.loc[i, b]:.2f}" for i, a in enumerate(rho["method"])
+             for b in methods[methods.index(a) + 1:]]
+    return markdown(["configuration", *methods], rows) + "\n\nSpearman's ρ: " + ", ".join(pairs)
+
+
+def moderate(configuration: str) -> str:
+    """A configuration's label in the moderate study's tables."""
+    return configuration.removesuffix(" (moderate)")
+
+
+def methods_tables() -> str:
+    loads = pd.read_csv(HERE / "methods" / "wall_loads.csv")
+    twin = pd.read_csv(HERE / "dsmc" / "twin_wall_loads_1mm.csv")
+    fine = pd.read_csv(HERE / "fv" / "wall_loads_0.5mm.csv")
+    against_fine = differences(loads.assign(method=loads["method"].where(loads["method"] != "fv", "fv 1 mm")), fine,
+                               ("wall_force_peak_raw", "wall_impulse_final"))
+    rows = []
+    for _, r in fine.iterrows():
+        cells = [" / ".join(percent(against_fine.loc[(r["configuration"], m), q], tolerance(m))
+                            for q in ("wall_force_peak_raw", "wall_impulse_final")) + " %"
+                 for m in ("fv 1 mm", "sph", "dsmc")]
+        rows.append([moderate(r["configuration"]), f"{r['wall_impulse_final']:.2f}", f"{r['wall_seconds']:.0f}", *cells])
+    return "\n\n".join([
+        "Agreement with fv at 1 mm (raw peak force / fitted peak force / impulse):",
+        agreement_table(loads, {"sph": loads[loads["method"] == "sph"], "dsmc": loads[loads["method"] == "dsmc"],
+                                "dsmc's twin": twin}, moderate),
+        "Against fv at 0.5 mm (raw peak force / impulse):",
+        markdown(["configuration", "fv 0.5 mm impulse [N s/m]", "solver time [s]", "fv 1 mm", "sph 1 mm", "dsmc 1 mm"],
+                 rows),
+        "Ranking by impulse:", ranking_table(HERE / "methods", moderate)])
+
+
+def variants_tables() -> str:
+    loads = pd.read_csv(HERE / "variants" / "wall_loads.csv")
+    coarse = pd.read_csv(HERE / "fv" / "wall_loads_variants_strong_2mm.csv")
+    twin = pd.read_csv(HERE / "dsmc" / "twin_wall_loads_variants_strong_2mm.csv")
+    return "\n\n".join([
+        "sph:", loads_table(loads, "sph"), "dsmc:", loads_table(loads, "dsmc"),
+        "Agreement with fv at 1 mm (raw peak force / fitted peak force / impulse):",
+        agreement_table(loads, {"sph 2 mm": loads[loads["method"] == "sph"], "dsmc 2 mm": loads[loads["method"] == "dsmc"],
+                                "fv 2 mm": coarse, "dsmc's twin 2 mm": twin}),
+        "Ranking by impulse:", ranking_table(HERE / "variants")])
+
+
+#: the ladder table's columns: quantity, its scale to the table's unit, its format
+LADDER_COLUMNS = {"dx": (1e3, ".4g"), "wall_impulse_final": (1, ".2f"), "wall_force_peak_fitted": (1e-3, ".1f"),
+                  "wall_force_peak_raw": (1e-3, ".1f"), "wall_arrival_time": (1e3, ".4f"), "wall_seconds": (1, ".0f")}
+
+
+def ladder_table() -> str:
+    """Each method's levels, coarsest first, one row per method."""
+    ladder = pd.read_csv(HERE / "ladder" / "ladder.csv").sort_values(["dx"], ascending=False, kind="stable")
+    rows = [[method, *(" / ".join(f"{scale * v:{fmt}}" for v in runs[q]) for q, (scale, fmt) in LADDER_COLUMNS.items())]
+            for method, runs in ladder.groupby("method", sort=False)]
+    rows.sort(key=lambda row: ("fv", "sph", "dsmc").index(row[0]))
+    return markdown(["method", "dx [mm]", "impulse [N s/m]", "fitted peak force [kN/m]", "raw peak force [kN/m]",
+                     "arrival [ms]", "solver time [s]"], rows)
+
+
+PARTS = {"methods": methods_tables, "variants": variants_tables, "ladder": ladder_table}
+
+if __name__ == "__main__":
+    part = sys.argv[1] if len(sys.argv) > 1 else ""
+    if part not in PARTS:
+        sys.exit(f"name the part: one of {', '.join(PARTS)}.")
+    print(PARTS[part]())
