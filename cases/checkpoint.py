@@ -27,7 +27,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from cases.checks import positive
+from cases.checks import flag, positive
 from cases.errors import InputError
 
 #: settings that say where and how often to checkpoint, not what the run computes
@@ -41,7 +41,7 @@ class Checkpoint:
     def __init__(self, path=None, every: float = 600.0, resume: bool = False, identity: dict | None = None):
         self.path = Path(path) if path is not None else None
         self.every = positive("checkpoint_every", every)
-        self.resume, self.identity = bool(resume), identity or {}
+        self.resume, self.identity = flag("resume", resume), identity or {}
         if self.resume and self.path is None:
             raise InputError("resume needs a checkpoint file (checkpoint=PATH, or --checkpoint-every with -o).")
         self.stop = None  # the name of the signal that asked the run to stop

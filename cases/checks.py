@@ -8,6 +8,7 @@ import numpy as np
 from compare.checks import (
     InputError,
     choice,
+    flag,
     in_range,
     integer,
     non_negative,
@@ -15,7 +16,7 @@ from compare.checks import (
     positive,
 )
 
-__all__ = ["InputError", "cfl", "check_scene", "choice", "in_range", "integer", "non_negative", "number", "positive"]
+__all__ = ["InputError", "cfl", "check_scene", "choice", "flag", "in_range", "integer", "non_negative", "number", "positive"]
 
 
 def cfl(value) -> float:

@@ -49,6 +49,17 @@ def in_range(name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=F
     return value
 
 
+def flag(name: str, value) -> bool:
+    """``value`` as a bool: a bool, 0 or 1, or the text true/false, yes/no,
+    on/off, 1/0 (any case), as a setting given on the command line is."""
+    words = {"true": True, "yes": True, "on": True, "1": True, "false": False, "no": False, "off": False, "0": False}
+    if isinstance(value, str) and value.strip().lower() in words:
+        return words[value.strip().lower()]
+    if not isinstance(value, str) and value in (True, False):
+        return bool(value)
+    raise InputError(f"{name} must be true or false, got {value!r}.")
+
+
 def choice(name: str, value, options) -> str:
     """``value``, which must be one of ``options``."""
     if value not in options:

@@ -74,3 +74,17 @@ def test_resume_refuses_a_missing_or_foreign_checkpoint(tmp_path):
         cases.run(scene, "fv", dx=0.02, cfl=0.5, checkpoint=path, resume=True, progress=False)
     with pytest.raises(InputError, match="checkpoint_every must be a finite number > 0"):
         cases.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=0.0, progress=False)
+
+
+def test_resume_given_as_text_means_what_it_says(tmp_path):
+    """``--option resume=false`` reaches the solver as the text 'false',
+    which must start afresh, not resume (any non-empty text is truthy);
+    a word that is neither true nor false is refused."""
+    scene = cases.get("sod", nx_out=50)
+    path = tmp_path / "none_yet.checkpoint"
+    fresh = cases.run(scene, "fv", dx=0.02, checkpoint=path, resume="false", progress=False)
+    assert fresh.attrs["status"] == "ok"
+    with pytest.raises(InputError, match="cannot resume: checkpoint .* does not exist"):
+        cases.run(scene, "fv", dx=0.02, checkpoint=tmp_path / "other.checkpoint", resume="True", progress=False)
+    with pytest.raises(InputError, match="resume must be true or false, got 'maybe'"):
+        cases.run(scene, "fv", dx=0.02, checkpoint=path, resume="maybe", progress=False)
