@@ -10,6 +10,7 @@ from __future__ import annotations
 import inspect
 from typing import Callable
 
+from cases.checks import flag
 from cases.errors import InputError
 
 _BUILDERS: dict[str, Callable] = {}
@@ -61,7 +62,7 @@ def _coerce(name: str, key: str, value, default):
     if value.lower() == "none":
         return None
     if isinstance(default, bool):
-        return value.lower() in ("1", "true", "yes")
+        return flag(f"{name}: parameter {key}", value)
     for kind in ((int, float) if isinstance(default, int) else (float,)):
         try:
             return kind(value)

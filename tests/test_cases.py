@@ -247,3 +247,8 @@ def test_string_overrides_are_converted():
     b = cases.get("blast_wall", blast="strong", t_end="1e-3")
     assert b.t_end == pytest.approx(1e-3)
     assert cases.get("sod", left_rho="none").parameters["left_rho"] == 1.0  # "none" = the preset's value
+    # a yes/no parameter reads the words that checkpoint's resume reads, and refuses any other
+    assert cases.get("blast_array", one_period="false").parameters["one_period"] is False
+    assert cases.get("blast_array", one_period="Yes").parameters["one_period"] is True
+    with pytest.raises(cases.InputError, match="blast_array: parameter one_period must be true or false, got 'ture'"):
+        cases.get("blast_array", one_period="ture")
