@@ -11,6 +11,13 @@ uninterrupted one gives: bit for bit for fv and dsmc (with its seed), to
 ~1e-7 for sph, which searches its neighbour lists anew (its density solve,
 converged to 1e-8, then starts from other brackets).
 
+Python delivers a signal to a process's main thread, and a Dask worker runs
+its task in another one; so the request to stop is a flag of the process,
+which every run in it reads between two steps. A worker of a sweep's
+cluster installs the handlers once (:func:`watch_signals_for_runs`), and
+the sweep, stopped by a signal of its own, asks every worker to stop
+(:func:`request_stop`).
+
 The file is a pickle of numpy arrays and plain values, written atomically
 (a temporary file renamed), tagged with the run's identity: the package
 version, scene parameters, method and settings, which must match to resume.
@@ -33,6 +40,79 @@ from cases.errors import InputError
 #: settings that say where and how often to checkpoint, not what the run computes
 CHECKPOINT_SETTINGS = ("checkpoint", "checkpoint_every", "resume")
 
+#: the signals that stop a run cleanly
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+_stop_request: list[str] = []  # the name of the signal that asked every run of this process to stop
+
+
+def request_stop(name: str = "SIGTERM") -> None:
+    """Ask every run of this process to stop after its step under way,
+    saving its state and its partial result (``name``: the signal that
+    asked)."""
+    if not _stop_request:
+        _stop_request.append(name)
+
+
+def stop_requested() -> str | None:
+    """The name of the signal that asked this process's runs to stop, or None."""
+    return _stop_request[0] if _stop_request else None
+
+
+def clear_stop_request() -> None:
+    """Let this process's next runs go on (after a stop was handled)."""
+    _stop_request.clear()
+
+
+def _ask_to_stop(number, frame) -> None:
+    request_stop(signal.Signals(number).name)
+
+
+def watch_signals_for_runs() -> bool:
+    """From now on, SIGINT and SIGTERM ask this process's runs to stop
+    instead of ending the process; for the main thread of a worker process
+    whose runs go on in other threads. Returns whether the handlers were
+    installed (only a main thread can)."""
+    if threading.current_thread() is not threading.main_thread():
+        return False
+    for s in STOP_SIGNALS:
+        signal.signal(s, _ask_to_stop)
+    return True
+
+
+class Interrupted(Exception):
+    """A SIGINT or SIGTERM that arrived while this process waited for runs
+    going on elsewhere; ``signal`` is its name."""
+
+    def __init__(self, name: str):
+        super().__init__(f"stopped by {name}")
+        self.signal = name
+
+
+@contextmanager
+def signals_raised():
+    """Inside, in a main thread: SIGINT and SIGTERM raise :class:`Interrupted`
+    (then the previous handlers are back, so a second Ctrl-C acts at once);
+    in another thread nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(number, frame):
+        restore()
+        raise Interrupted(signal.Signals(number).name)
+
+    previous = {s: signal.signal(s, interrupt) for s in STOP_SIGNALS}
+
+    def restore():
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+    try:
+        yield
+    finally:
+        restore()
+
 
 class Checkpoint:
     """The checkpoint file of one run (``path`` None: none is written, but
@@ -44,8 +124,12 @@ class Checkpoint:
         self.resume, self.identity = flag("resume", resume), identity or {}
         if self.resume and self.path is None:
             raise InputError("resume needs a checkpoint file (checkpoint=PATH, or --checkpoint-every with -o).")
-        self.stop = None  # the name of the signal that asked the run to stop
         self._last = time.perf_counter()
+
+    @property
+    def stop(self) -> str | None:
+        """The name of the signal that asked the run to stop, or None."""
+        return stop_requested()
 
     def saved_state(self, run):
         """The solver state saved by an earlier run with the same identity,
@@ -60,7 +144,7 @@ class Checkpoint:
             saved = pickle.load(f)
         if saved.get("identity") != self.identity:
             raise InputError(f"cannot resume: checkpoint {str(self.path)!r} was written by a run of another scene, "
-                             f"method or settings.")
+                             f"method or settings; remove it to start the run afresh.")
         run.restore(saved["state"]["run"])
         return saved["state"]
 
@@ -98,20 +182,19 @@ class Checkpoint:
     @contextmanager
     def watching_signals(self):
         """SIGINT and SIGTERM set :attr:`stop` instead of killing the run
-        (only in the main thread, where Python delivers signals)."""
+        (a main thread installs the handlers for the run and clears the
+        request after it; another thread relies on its process's handlers,
+        :func:`watch_signals_for_runs`)."""
         if threading.current_thread() is not threading.main_thread():
             yield self
             return
-
-        def ask_to_stop(number, frame):
-            self.stop = signal.Signals(number).name
-
-        previous = {s: signal.signal(s, ask_to_stop) for s in (signal.SIGINT, signal.SIGTERM)}
+        previous = {s: signal.signal(s, _ask_to_stop) for s in STOP_SIGNALS}
         try:
             yield self
         finally:
             for s, handler in previous.items():
                 signal.signal(s, handler)
+            clear_stop_request()
 
 
 def checkpoint_for(scene, method: str, settings: dict, checkpoint=None, checkpoint_every=600.0,

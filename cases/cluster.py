@@ -2,7 +2,8 @@
 
 Sweeps and ensembles are independent runs. They run on ``dask.distributed``:
 a :class:`~distributed.LocalCluster` of single-threaded worker processes on
-this machine by default, or the scheduler at ``scheduler`` (a real cluster).
+this machine by default, or the scheduler at ``scheduler`` (a real cluster,
+whose workers keep their own signal handling).
 Each run inside a local worker uses its share of the cores for its numba
 threads, so K workers on C cores do not oversubscribe them.
 """
@@ -27,8 +28,12 @@ def local_workers(runs: int, workers: int | None = None) -> int:
 def dask_client(scheduler: str | None = None, workers: int = 1):
     """A ``distributed.Client``: of the scheduler at address ``scheduler``,
     or of a new LocalCluster with ``workers`` single-threaded worker
-    processes (closed on exit)."""
+    processes (closed on exit), in which Ctrl-C or SIGTERM asks the runs
+    to stop between two steps (:func:`cases.checkpoint.watch_signals_for_runs`)
+    instead of ending the process."""
     from distributed import Client, LocalCluster
+
+    from cases.checkpoint import watch_signals_for_runs
 
     if scheduler:
         with Client(scheduler) as client:
@@ -36,6 +41,7 @@ def dask_client(scheduler: str | None = None, workers: int = 1):
         return
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
+        client.run(watch_signals_for_runs)
         yield client
 
 

@@ -7,7 +7,12 @@ written atomically by the worker that ran it, and a sweep skips every run
 whose file already holds a complete result: a sweep that was stopped
 half-way is finished by running it again. A run that fails writes its
 partial result (``status = "failed"``, which the next sweep runs again)
-and is reported at the end; the others go on. :func:`open_sweep` opens the
+and is reported at the end; the others go on. Every run of a method that
+checkpoints saves its state to ``<name>.nc.checkpoint`` every
+``checkpoint_every`` seconds of wall time (600 by default) and resumes from
+it when the sweep runs again. Ctrl-C or SIGTERM stops a sweep cleanly: each
+run under way ends its step and saves its state and its partial result, and
+no other run begins (:mod:`cases.checkpoint`). :func:`open_sweep` opens the
 finished runs together with ``xarray.open_mfdataset``, along a dimension
 ``run`` that carries each run's method, ``dx``, scene parameters and
 solver settings as coordinates.
@@ -121,7 +126,8 @@ def execute(runs: list[SweepRun], output: str | Path = "runs", settings: dict | 
     writing ``output/<name>.nc``; ``settings`` go to every run of a method
     that takes them. A bad scene parameter or setting is refused before
     anything runs. Returns the records of :func:`sweep`, in the order of
-    ``runs``."""
+    ``runs``; stopped by a signal, raises
+    :class:`~cases.errors.SolverFailed` (:func:`_collected`)."""
     from tqdm.auto import tqdm
 
     from cases.registry import defaults
@@ -132,6 +138,10 @@ def execute(runs: list[SweepRun], output: str | Path = "runs", settings: dict | 
     for key in settings:
         if not any(key in keys for keys in takes.values()):
             raise InputError(f"{key!r} is not a setting of {', '.join(methods)}.")
+    for key in ("checkpoint", "resume"):
+        if key in settings:
+            raise InputError(f"{key} is not a setting of a sweep: each run saves its state to <its file>.checkpoint "
+                             f"every checkpoint_every seconds and resumes from it when the sweep runs again.")
     scene_keys = {run.case: set(defaults(run.case)) for run in runs}
     for run in runs:  # a bad scene parameter is refused before anything runs
         _scene(run, scene_keys[run.case])
@@ -146,20 +156,50 @@ def execute(runs: list[SweepRun], output: str | Path = "runs", settings: dict | 
         else:
             todo.append((run, path))
     if todo:
-        from distributed import as_completed
-
         n_workers = local_workers(len(todo), workers)
         threads = None if scheduler else threads_per_run(n_workers)
         with dask_client(scheduler, n_workers) as client, \
                 tqdm(total=len(todo), disable=None if progress else True, desc=description, unit="run") as bar:
             futures = [client.submit(_run_and_write, run, str(path), sorted(scene_keys[run.case]),
                                      {k: v for k, v in settings.items() if k in takes[run.method]},
-                                     threads, pure=False) for run, path in todo]
-            for future in as_completed(futures):
-                records.append(future.result())
-                bar.update(1)
+                                     threads, "checkpoint" in takes[run.method], pure=False) for run, path in todo]
+            records += _collected(client, futures, bar, description)
     order = {run.name: k for k, run in enumerate(runs)}
     return sorted(records, key=lambda r: order[r["name"]])
+
+
+def _collected(client, futures, bar, description: str) -> list[dict]:
+    """The records of ``futures`` as they finish. A SIGINT or SIGTERM
+    meanwhile asks every worker's runs to stop: each run under way ends its
+    step and writes its state and partial result, a run not begun does not
+    begin; then (or when a signal to a worker alone kept a run from
+    beginning) :class:`~cases.errors.SolverFailed` says how many of each."""
+    from distributed import as_completed
+
+    from cases.checkpoint import Interrupted, clear_stop_request, request_stop, signals_raised
+
+    records, stop = {}, None
+    try:
+        with signals_raised():
+            for future in as_completed(futures):
+                record = future.result()
+                records[record["name"]] = record
+                bar.update(1)
+    except Interrupted as interrupted:
+        stop = interrupted.signal
+        bar.write(f"{description}: stopping on {stop}; the runs under way end their step and save "
+                  f"(a second {stop} ends at once)")
+        client.run(request_stop, stop)
+        for future in futures:
+            record = future.result()
+            records.setdefault(record["name"], record)
+    counts = {s: sum(r["status"] == s for r in records.values()) for s in ("ran", "failed", "not begun")}
+    if stop is None and not counts["not begun"]:
+        return list(records.values())
+    client.run(clear_stop_request)
+    raise SolverFailed(f"{description} stopped by {stop or 'a signal to its workers'}: {counts['ran']} runs "
+                       f"finished, {counts['failed']} ended early with their partial result (and state, to resume "
+                       f"from) written, {counts['not begun']} not begun; the same command again goes on from there.")
 
 
 def _scene(run: SweepRun, scene_keys):
@@ -168,9 +208,19 @@ def _scene(run: SweepRun, scene_keys):
     return get(run.case, **{k: v for k, v in run.values if k in scene_keys})
 
 
-def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads: int | None) -> dict:
+def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads: int | None,
+                   checkpointed: bool) -> dict:
     """One run on a worker: its result (or its partial result, when it
-    fails) written atomically to ``path``."""
+    fails) written atomically to ``path``; ``checkpointed``: its state
+    saved to ``path.checkpoint`` (:mod:`cases.checkpoint`), resumed from
+    there when that file exists, and removed once the run is complete. Not
+    begun (status ``"not begun"``) when its process was asked to stop."""
+    from cases.checkpoint import stop_requested
+
+    record = {"name": run.name, "path": path}
+    if stop_requested() is not None:
+        return {**record, "status": "not begun", "seconds": 0.0,
+                "message": f"not begun: the sweep was stopped by {stop_requested()}."}
     if threads:
         import numba
 
@@ -181,7 +231,9 @@ def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads
     given = {**settings, **{k: v for k, v in run.values if k not in scene_keys}, "progress": False}
     if run.dx is not None:
         given["dx"] = run.dx
-    record = {"name": run.name, "path": path}
+    checkpoint = Path(path + ".checkpoint")
+    if checkpointed:
+        given.update(checkpoint=checkpoint, resume=checkpoint.is_file())
     t0 = time.perf_counter()
     try:
         ds = run_scene(_scene(run, scene_keys), run.method, **given)
@@ -192,6 +244,7 @@ def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads
     except InputError as err:
         return {**record, "status": "failed", "seconds": time.perf_counter() - t0, "message": str(err)}
     write(ds, path)
+    checkpoint.unlink(missing_ok=True)  # the run is complete
     return {**record, "status": "ran", "seconds": time.perf_counter() - t0, "message": ""}
 
 

@@ -1,6 +1,7 @@
 """Sweeps on Dask (cases.sweep, ``partmesh sweep``): the product of runs,
-one file per run, a killed sweep finished by running it again, failures
-reported without losing the finished runs, the runs opened together."""
+one file per run, a killed sweep finished by running it again, a stopped
+one saving its runs under way and resuming them, failures reported without
+losing the finished runs, the runs opened together."""
 
 import os
 import signal
@@ -11,8 +12,10 @@ import time
 import numpy as np
 import pytest
 
+import cases
 from cases.errors import InputError
 from cases.sweep import finished, open_sweep, plan, sweep
+from compare.io import read
 
 
 def test_plan_is_the_product_with_each_setting_sweeping_the_methods_that_take_it():
@@ -63,6 +66,71 @@ def test_a_killed_sweep_is_finished_by_running_it_again(tmp_path):
     x0 = ds["x0"].values.astype(float)
     mass = ds["rho"].isel(time=-1).mean("x").values
     np.testing.assert_allclose(mass, x0 + (1 - x0) * 0.125, rtol=0.03)  # mass stays where x0 put it
+
+
+def _stoppable_command(folder):
+    # fv at 1e-4 (5 487 steps, seconds) first, then a run of 0.5 s; one worker, a checkpoint every 0.3 s
+    return [sys.executable, "-m", "cases.cli", "sweep", "sod", "-m", "fv", "--dx", "1e-4,1e-3", "--workers", "1",
+            "--option", "checkpoint_every=0.3", "--quiet", "-o", str(folder)]
+
+
+def _stopped(folder, send, after_ns=0):
+    """Run the sweep until the long run saves its state (after ``after_ns``), stop it with ``send(process)``;
+    return its stderr."""
+    checkpoint = folder / "sod_fv_dx0.0001.nc.checkpoint"
+    process = subprocess.Popen(_stoppable_command(folder), start_new_session=True, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 180
+    while (not checkpoint.exists() or checkpoint.stat().st_mtime_ns <= after_ns) and time.time() < deadline \
+            and process.poll() is None:
+        time.sleep(0.05)
+    send(process)
+    _, err = process.communicate(timeout=180)
+    assert process.returncode == 3, err
+    return err
+
+
+def _to_the_worker(process, stop):
+    """Send ``stop`` to the sweep's worker process alone."""
+    import psutil
+
+    workers = [c for c in psutil.Process(process.pid).children() if "spawn_main" in " ".join(c.cmdline())]
+    assert len(workers) == 1
+    workers[0].send_signal(stop)
+
+
+def test_a_stopped_sweep_saves_its_runs_under_way_and_resumes_them(tmp_path):
+    """SIGTERM to the sweep alone (a batch system's kill), to its worker alone, then Ctrl-C (SIGINT to the sweep
+    and its worker): each time the run under way ends its step, writes its partial result and its state, and
+    the other run does not begin; run again, the sweep resumes from the state and ends with the uninterrupted
+    result, bit for bit."""
+    folder = tmp_path / "runs"
+    long, short = folder / "sod_fv_dx0.0001.nc", folder / "sod_fv_dx0.001.nc"
+    checkpoint = folder / "sod_fv_dx0.0001.nc.checkpoint"
+    reached = []
+    for send, by, name in ((lambda p: p.send_signal(signal.SIGTERM), "SIGTERM", "SIGTERM"),
+                           (lambda p: _to_the_worker(p, signal.SIGTERM), "a signal to its workers", "SIGTERM"),
+                           (lambda p: os.killpg(p.pid, signal.SIGINT), "SIGINT", "SIGINT")):
+        err = _stopped(folder, send, checkpoint.stat().st_mtime_ns if checkpoint.exists() else 0)
+        assert f"sweep sod stopped by {by}: 0 runs finished, 1 ended early" in err and "1 not begun" in err, err
+        partial = read(long)
+        assert partial.attrs["status"] == "failed" and f"stopped by {name}" in partial.attrs["failure"]
+        assert checkpoint.exists() and not short.exists()
+        reached.append(float(partial.time.values[-1]))
+    assert 0 < reached[0] < reached[1] < reached[2] < 0.2  # each stop came later: the run resumed and went on
+    again = subprocess.run(_stoppable_command(folder), capture_output=True, text=True)
+    assert again.returncode == 0 and "2 runs of sod: 2 ran" in again.stdout, again.stderr
+    assert finished(long) and finished(short) and not checkpoint.exists()
+    whole, result = cases.run("sod", "fv", dx=1e-4, progress=False), read(long)
+    assert result.attrs["n_steps"] == whole.attrs["n_steps"]
+    for name in whole.data_vars:
+        np.testing.assert_array_equal(result[name].values, whole[name].values, err_msg=name)
+
+
+def test_a_sweep_sets_each_runs_checkpoint_itself():
+    with pytest.raises(InputError, match="checkpoint is not a setting of a sweep: each run saves its state to "
+                                         "<its file>.checkpoint"):
+        sweep("sod", ["fv"], [0.02], output="unused", settings={"checkpoint": "a.checkpoint"}, progress=False)
 
 
 def test_failed_runs_are_reported_and_the_others_kept(tmp_path, monkeypatch):
