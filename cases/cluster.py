@@ -39,7 +39,8 @@ def dask_client(scheduler: str | None = None, workers: int = 1):
         with Client(scheduler) as client:
             yield client
         return
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+    # the scheduler's HTTP server on a free port: sweeps side by side do not fight over 8787
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         client.run(watch_signals_for_runs)
         yield client
