@@ -307,11 +307,12 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         sph.verlet.renumber(order)
                     try:
                         dt = min(time_step(P, E, cfl, MIN_STEP_FRACTION * t_end), t_out - t)
-                        entering = None if not inflow else (
-                            # buffer particles that crossed the inlet join the fluid with the boundary state
-                            lambda Q, t=t, dt=dt: _entering(inflow, t, dt, eta, Q.m[0], alpha_min))
+                        # the layer moves over the step first, so that the buffer at t + dt no longer holds
+                        # the columns that crossed the inlet and join the fluid with the boundary state
+                        entering = _entering(inflow, t, dt, eta, P.m[0], alpha_min) if inflow else None
                         Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
-                                                       entering, lambda Q: sph.retained(Q.x))
+                                                       None if entering is None else lambda Q: entering,
+                                                       lambda Q: sph.retained(Q.x))
                     except Unstable as err:
                         raise run.failure(f"sph became unstable at t = {t:.6g} s (step {run.n_steps + 1}): "
                                           f"{err}.", t, lambda: run.fields(P, E)) from None
