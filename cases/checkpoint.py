@@ -68,6 +68,17 @@ def _ask_to_stop(number, frame) -> None:
     request_stop(signal.Signals(number).name)
 
 
+def _handled_by(handler) -> dict:
+    """Make ``handler`` the handler of the stop signals; returns the ones it replaced."""
+    return {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+
+
+def _restore(previous: dict) -> None:
+    """Put back the handlers :func:`_handled_by` replaced."""
+    for s, handler in previous.items():
+        signal.signal(s, handler)
+
+
 def watch_signals_for_runs() -> bool:
     """From now on, SIGINT and SIGTERM ask this process's runs to stop
     instead of ending the process; for the main thread of a worker process
@@ -75,8 +86,7 @@ def watch_signals_for_runs() -> bool:
     installed (only a main thread can)."""
     if threading.current_thread() is not threading.main_thread():
         return False
-    for s in STOP_SIGNALS:
-        signal.signal(s, _ask_to_stop)
+    _handled_by(_ask_to_stop)
     return True
 
 
@@ -99,19 +109,14 @@ def signals_raised():
         return
 
     def interrupt(number, frame):
-        restore()
+        _restore(previous)
         raise Interrupted(signal.Signals(number).name)
 
-    previous = {s: signal.signal(s, interrupt) for s in STOP_SIGNALS}
-
-    def restore():
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-
+    previous = _handled_by(interrupt)
     try:
         yield
     finally:
-        restore()
+        _restore(previous)
 
 
 class Checkpoint:
@@ -188,12 +193,11 @@ class Checkpoint:
         if threading.current_thread() is not threading.main_thread():
             yield self
             return
-        previous = {s: signal.signal(s, _ask_to_stop) for s in STOP_SIGNALS}
+        previous = _handled_by(_ask_to_stop)
         try:
             yield self
         finally:
-            for s, handler in previous.items():
-                signal.signal(s, handler)
+            _restore(previous)
             clear_stop_request()
 
 

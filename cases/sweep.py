@@ -217,10 +217,9 @@ def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads
     begun (status ``"not begun"``) when its process was asked to stop."""
     from cases.checkpoint import stop_requested
 
-    record = {"name": run.name, "path": path}
-    if stop_requested() is not None:
-        return {**record, "status": "not begun", "seconds": 0.0,
-                "message": f"not begun: the sweep was stopped by {stop_requested()}."}
+    record, stop = {"name": run.name, "path": path}, stop_requested()
+    if stop is not None:
+        return {**record, "status": "not begun", "seconds": 0.0, "message": f"not begun: the sweep was stopped by {stop}."}
     if threads:
         import numba
 

@@ -98,7 +98,7 @@ def test_a_column_that_crosses_the_inlet_leaves_the_buffer_of_the_same_step(monk
     step = solve.leapfrog
 
     def checked(sph, P, E, dt, switches, imposed=None, joining=None, retained=None):
-        new = joining(P) if joining is not None else None
+        new = joining
         if new is not None and new.x.shape[0]:
             crossings.append(new.x.shape[0])
             spacing = imposed[5][0] / imposed[2][0]  # m / ρ at the inlet (1D)

@@ -66,7 +66,7 @@ class Switches:
 
 
 def leapfrog(sph, P, E, dt: float, switches: Switches, imposed=None,
-             joining: Callable | None = None, retained: Callable | None = None):
+             joining=None, retained: Callable | None = None):
     """The fluid particles ``P`` (with ``E``, their evaluation) advanced by
     ``dt``, with their new evaluation and the number of particles the
     walls had to reflect: ``(P_new, E_new, reflected)``. ``P`` is left as
@@ -74,9 +74,8 @@ def leapfrog(sph, P, E, dt: float, switches: Switches, imposed=None,
 
     ``imposed`` are the particles whose state is set from outside at the
     new time, ``(x, v, rho, u, H, m)`` (neighbours only: an inflow buffer,
-    the boundary particles of ``hybrid``); ``joining(Q)`` returns the
-    particles that join the fluid over the step (appended after the
-    drift); ``retained(Q)`` is True for the particles of ``Q`` that stay (None: all).
+    the boundary particles of ``hybrid``); ``joining`` are the particles
+    that join the fluid over the step (appended after the drift); ``retained(Q)`` is True for the particles of ``Q`` that stay (None: all).
     Raises :class:`Unstable` (a particle's energy turned non-positive) or
     ``FloatingPointError`` (the density solve failed), saying where."""
     dim = P.x.shape[1]
@@ -93,11 +92,10 @@ def leapfrog(sph, P, E, dt: float, switches: Switches, imposed=None,
         reflected += more
     div_old = E.div_v
     if joining is not None:
-        new = joining(Q)
-        Q.append(new)
-        v_half, v_pred = np.concatenate([v_half, new.v]), np.concatenate([v_pred, new.v])
-        u_half, u_pred = np.concatenate([u_half, new.u]), np.concatenate([u_pred, new.u])
-        div_old = np.concatenate([div_old, np.zeros(new.x.shape[0])])
+        Q.append(joining)
+        v_half, v_pred = np.concatenate([v_half, joining.v]), np.concatenate([v_pred, joining.v])
+        u_half, u_pred = np.concatenate([u_half, joining.u]), np.concatenate([u_pred, joining.u])
+        div_old = np.concatenate([div_old, np.zeros(joining.x.shape[0])])
     stay = None if retained is None else retained(Q)
     if stay is not None and not stay.all():
         Q.keep(stay)

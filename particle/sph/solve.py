@@ -311,7 +311,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
                         # the columns that crossed the inlet and join the fluid with the boundary state
                         entering = _entering(inflow, t, dt, eta, P.m[0], alpha_min) if inflow else None
                         Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
-                                                       None if entering is None else lambda Q: entering,
+                                                       entering,
                                                        lambda Q: sph.retained(Q.x))
                     except Unstable as err:
                         raise run.failure(f"sph became unstable at t = {t:.6g} s (step {run.n_steps + 1}): "
@@ -389,7 +389,8 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
     """The buffer particles that cross the inlet over ``[t, t + dt]``, as fluid
-    particles carrying the boundary state of ``t + dt``."""
+    particles carrying the boundary state of ``t + dt`` (the layer moved over
+    the step)."""
     x = inflow.advance(t, dt)
     _, bv, brho, bu, bH = inflow.particles(t + dt, eta)
     k = x.shape[0]
