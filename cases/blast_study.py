@@ -30,12 +30,17 @@ from cases.shapes import SHAPES
 from cases.sweep import SweepRun, execute
 
 #: the study's parts: the 11 moderate-blast configurations of the seed study's
-#: first table; standoff, layers and trap-gap variants of two shapes; the strong blast
-PARTS = ("moderate", "variants", "strong")
+#: first table; its staggered variants (layers, standoff, trap gap, the
+#: strong blast); the inline variants recorded before them
+PARTS = ("moderate", "layers", "standoff", "trap", "strong", "variants_inline")
 #: the shapes the variants are run for (the seed study's best performers)
 VARIANT_SHAPES = ("square", "triangle_right")
 #: the trap: two sets of three layers 0.08 m apart, 0.17 m from the wall
 TRAP = {"layers": 6, "trap_gap": 0.08, "standoff": 0.17}
+#: the trap gaps of the ``trap`` part [m] (seed study, Fig. 14)
+TRAP_GAPS = (0.02, 0.04, 0.08, 0.12, 0.16)
+#: the array the variants change one thing of: 3 staggered layers, 0.34 m from the wall
+BASE_LAYERS, BASE_STANDOFF = 3, 0.34
 #: the time of the snapshots (seed study, Fig. 6)
 SNAPSHOT_TIME = 1.7e-3
 #: the wall loads compared between methods (:func:`compare.report.agreement`)
@@ -92,16 +97,35 @@ def file_stem(label: str) -> str:
     return label.replace(" ", "_").replace("(", "").replace(")", "")
 
 
+def _staggered(shape: str, label: str, part: str, blast: str = "moderate", whole_channel=(), layers=BASE_LAYERS,
+               standoff=BASE_STANDOFF, **parameters) -> Configuration:
+    """The staggered array of ``shape`` with the base array's layers and
+    standoff changed as given; the scene parameters name only what differs
+    from the base array, so the same array is the same run in every part
+    (``square staggered`` of ``moderate`` is ``square staggered 3 layers``)."""
+    changed = {"layers": layers} if layers != BASE_LAYERS else {}
+    changed |= {"standoff": standoff} if standoff != BASE_STANDOFF else {}
+    return _array(f"{shape} staggered {label}", part, blast, whole_channel, shape=shape, arrangement="staggered",
+                  **changed, **parameters)
+
+
 def configurations(parts=("moderate",)) -> list[Configuration]:
-    """The configurations of the study's ``parts`` (:data:`PARTS`):
+    """The configurations of the study's ``parts`` (:data:`PARTS`), the
+    design of Prasanna Kumar et al. (2018), every variant staggered:
 
     * ``moderate``: no obstacle, and 3 layers of each shape inline and
       staggered at standoff 0.34 m (11 configurations);
-    * ``variants``: for the square and the right-facing triangle (inline),
-      standoff 0.17 and 0.51 m, 5 and 7 layers, and the trap
-      (:data:`TRAP`) with its control (the same six layers, no gap);
-    * ``strong``: the strong blast on no obstacle and on the trap of both
-      variant shapes (on the whole channel for :data:`WHOLE_CHANNEL_STRONG`).
+    * ``layers``: 3, 5 and 7 staggered layers of the square and the
+      right-facing triangle (:data:`VARIANT_SHAPES`) at 0.34 m;
+    * ``standoff``: 3 layers at 0.17, 0.34 and 0.51 m, and 7 layers at 0.17 m;
+    * ``trap``: two sets of three layers at 0.17 m, :data:`TRAP_GAPS`
+      apart, beside the same six layers without a gap;
+    * ``strong``: the strong blast on no obstacle and on the 0.08 m trap
+      (:data:`TRAP`) of both shapes (on the whole channel for
+      :data:`WHOLE_CHANNEL_STRONG`), to 2 ms;
+    * ``variants_inline``: the inline variants recorded first (standoff
+      0.17 and 0.51 m, 5 and 7 layers, the 0.08 m trap and its control, the
+      strong traps).
     """
     unknown = [p for p in parts if p not in PARTS]
     if unknown or not parts:
@@ -111,15 +135,30 @@ def configurations(parts=("moderate",)) -> list[Configuration]:
         found.append(_open_channel("moderate", "moderate"))
         found += [_array(f"{shape} {arrangement}", "moderate", shape=shape, arrangement=arrangement)
                   for shape in SHAPES for arrangement in ARRANGEMENTS]
-    if "variants" in parts:
-        for shape in VARIANT_SHAPES:
-            found += [_array(f"{shape} standoff {s:g}", "variants", shape=shape, standoff=s) for s in (0.17, 0.51)]
-            found += [_array(f"{shape} {n} layers", "variants", shape=shape, layers=n) for n in (5, 7)]
-            found.append(_array(f"{shape} 6 layers standoff 0.17", "variants", shape=shape, layers=6, standoff=0.17))
-            found.append(_array(f"{shape} trap", "variants", shape=shape, **TRAP))
+    for shape in VARIANT_SHAPES:
+        if "layers" in parts:
+            found += [_staggered(shape, f"{n} layers", "layers", layers=n) for n in (3, 5, 7)]
+        if "standoff" in parts:
+            found += [_staggered(shape, f"standoff {s:g}", "standoff", standoff=s) for s in (0.17, 0.34, 0.51)]
+            found.append(_staggered(shape, "7 layers standoff 0.17", "standoff", layers=7, standoff=0.17))
+        if "trap" in parts:
+            found.append(_staggered(shape, "6 layers standoff 0.17", "trap", layers=6, standoff=0.17))
+            found += [_staggered(shape, f"trap {g:g}", "trap", layers=6, standoff=0.17, trap_gap=g)
+                      for g in TRAP_GAPS]
     if "strong" in parts:
         found.append(_open_channel("strong", "strong"))
-        found += [_array(f"{shape} trap (strong)", "strong", blast="strong", shape=shape,
+        found += [_staggered(shape, "trap (strong)", "strong", "strong", WHOLE_CHANNEL_STRONG, **TRAP)
+                  for shape in VARIANT_SHAPES]
+    if "variants_inline" in parts:
+        for shape in VARIANT_SHAPES:
+            # their scene parameters as first recorded (arrangement left at its default, inline)
+            found += [_array(f"{shape} inline standoff {s:g}", "variants_inline", shape=shape, standoff=s)
+                      for s in (0.17, 0.51)]
+            found += [_array(f"{shape} inline {n} layers", "variants_inline", shape=shape, layers=n) for n in (5, 7)]
+            found.append(_array(f"{shape} inline 6 layers standoff 0.17", "variants_inline", shape=shape, layers=6,
+                                standoff=0.17))
+            found.append(_array(f"{shape} inline trap", "variants_inline", shape=shape, **TRAP))
+        found += [_array(f"{shape} inline trap (strong)", "variants_inline", blast="strong", shape=shape,
                          whole_channel=WHOLE_CHANNEL_STRONG, **TRAP) for shape in VARIANT_SHAPES]
     return found
 
@@ -138,15 +177,21 @@ def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: di
     """Run every configuration of ``parts`` (or the given ``configs``) with every one of ``methods``
     (``dx``: method -> spacing, default each scene's) into
     ``output/runs/`` on Dask (:func:`cases.sweep.execute`; ``settings`` go
-    to the methods that take them), then write the report of
-    :func:`report_study` into ``output``; returns its table."""
+    to the methods that take them; a run shared by two parts runs once),
+    then write the report of :func:`report_study` of each part into
+    ``output/<part>/``; returns the table of every part, with its ``part``."""
     dx = dict(dx or {})
     configs = configurations(parts) if configs is None else list(configs)
-    runs = [c.run(method, dx.get(method)) for method in methods for c in configs]
+    runs = list(dict.fromkeys(c.run(method, dx.get(method)) for method in methods for c in configs))
     records = _reported(execute(runs, Path(output) / "runs", settings, scheduler, workers, progress,
                                 "blast-array study"))
-    return report_study(configs, methods, Path(output), dx,
-                        {r["name"]: r["seconds"] for r in records if r["status"] == "ran"})
+    seconds = {r["name"]: r["seconds"] for r in records if r["status"] == "ran"}
+    tables = []
+    for part in dict.fromkeys(c.part for c in configs):
+        group = [c for c in configs if c.part == part]
+        tables.append(report_study(group, methods, Path(output), dx, seconds, Path(output) / part)
+                      .assign(part=part))
+    return pd.concat(tables, ignore_index=True)
 
 
 def _reported(records: list[dict]) -> list[dict]:
@@ -157,8 +202,10 @@ def _reported(records: list[dict]) -> list[dict]:
     return records
 
 
-def report_study(configs, methods, output: Path, dx: dict | None = None, seconds: dict | None = None) -> pd.DataFrame:
-    """The study's report from the finished runs in ``output/runs/``:
+def report_study(configs, methods, output: Path, dx: dict | None = None, seconds: dict | None = None,
+                 folder: Path | None = None) -> pd.DataFrame:
+    """The report of ``configs`` from the finished runs in ``output/runs/``,
+    written into ``folder`` (default ``output``):
 
     * ``wall_loads.csv``/``.json``/``.nc``: one row per configuration and
       method (:func:`compare.report.wall_load_table`) with its blast;
@@ -190,6 +237,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     from cases.sweep import finished
 
     dx = dict(dx or {})
+    folder = output if folder is None else Path(folder)
     runs, labels, names, blasts, parts, missing = [], [], [], [], [], []
     for method in methods:
         for c in configs:
@@ -209,19 +257,19 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     table.insert(1, "blast", blasts)
     if seconds is not None:
         table["run_seconds"] = [seconds.get(n, float("nan")) for n in names]
-    write_table(table, output, "wall_loads")
+    write_table(table, folder, "wall_loads")
     impulse = "wall_impulse_final"
     # the configurations of each blast ranked among themselves
     ranks = {blast: ranking(group, impulse) for blast, group in table.groupby("blast", sort=False)}
-    pd.concat(ranks, names=["blast"]).to_csv(output / "ranking.csv")
+    pd.concat(ranks, names=["blast"]).to_csv(folder / "ranking.csv")
     pd.concat({blast: rank_correlation(r) for blast, r in ranks.items()}, names=["blast"]).to_csv(
-        output / "rank_correlation.csv")
+        folder / "rank_correlation.csv")
     timed = ["wall_seconds", "compile_seconds"] + (["run_seconds"] if seconds is not None else [])
     groups = table.groupby(["blast", "method"], sort=False)
-    groups[timed].sum(min_count=1).assign(runs=groups.size()).to_csv(output / "wall_time.csv")
+    groups[timed].sum(min_count=1).assign(runs=groups.size()).to_csv(folder / "wall_time.csv")
     if "fv" in set(table["method"]) and table["method"].nunique() > 1:
-        agreement(table, AGREEMENT).to_csv(output / "agreement.csv", index=False)
-    figures = output / "figures"
+        agreement(table, AGREEMENT).to_csv(folder / "agreement.csv", index=False)
+    figures = folder / "figures"
     for label in dict.fromkeys(labels):
         group = [(ds, ds.attrs["method"]) for ds, lab in zip(runs, labels) if lab == label]
         stem = file_stem(label)

@@ -214,8 +214,11 @@ def parser() -> argparse.ArgumentParser:
     s = sub.add_parser("study", help="the blast-array study: wall loads of rod arrays per method, ranked")
     s.add_argument("--methods", "-m", help="comma-separated, e.g. fv,sph,dsmc")
     s.add_argument("--parts", default="moderate",
-                   help="comma-separated parts of the study: moderate (11 configurations), variants (standoff, "
-                        "layers, trap gap), strong (default: moderate)")
+                   help="comma-separated parts of the study: moderate (11 configurations), and the seed study's "
+                        "staggered variants of the square and right-facing triangle: layers (3, 5, 7), standoff "
+                        "(0.17, 0.34, 0.51 m; 7 layers at 0.17 m), trap (gaps 0.02-0.16 m), strong (the strong "
+                        "blast); variants_inline (the inline variants recorded first) (default: moderate); each "
+                        "part's report goes to OUTPUT/<part>/")
     s.add_argument("--dx", action="append", metavar="METHOD=DX",
                    help="spacing of one method's runs [m] (repeatable; default: the scenes')")
     s.add_argument("--option", action="append", metavar="KEY=VALUE",

@@ -14,7 +14,7 @@ from scipy.stats import spearmanr
 
 import cases
 from cases.blast import wall_load_metrics
-from cases.blast_study import configurations, run_study
+from cases.blast_study import PARTS, TRAP_GAPS, configurations, run_study
 from cases.errors import InputError
 from cases.shapes import SHAPES
 from compare import exact
@@ -33,7 +33,7 @@ def test_the_moderate_part_is_the_seed_studys_eleven_configurations():
 
 def test_sph_runs_the_strong_traps_on_the_whole_channel_and_the_rest_on_one_row_pitch():
     # the strong traps' rarefied gas widens sph's supports beyond half a pitch; nothing else changes
-    for c in configurations(("moderate", "variants", "strong")):
+    for c in configurations(PARTS):
         for method in ("fv", "sph", "dsmc"):
             run = c.run(method)
             values = dict(run.values)
@@ -47,19 +47,51 @@ def test_sph_runs_the_strong_traps_on_the_whole_channel_and_the_rest_on_one_row_
 
 
 def test_every_configuration_builds_its_scene_and_is_named_once():
-    every = configurations(("moderate", "variants", "strong"))
+    every = configurations(PARTS)
     assert len({c.label for c in every}) == len(every)
-    assert len({c.run("fv").name for c in every}) == len(every)
     for c in every:
         scene = cases.get(c.case, **dict(c.parameters))
         assert scene.t_end == pytest.approx(2e-3 if "strong" in c.label else 3e-3)
-    trap = cases.get("blast_array", **dict(next(c for c in every if c.label == "square trap").parameters))
+    trap = cases.get("blast_array", **dict(next(c for c in every if c.label == "square inline trap").parameters))
     faces = sorted({round(r.bounds()[0], 9) for r in trap.obstacles})
     gaps = np.diff(faces)
     assert len(faces) == 6 and gaps[2] == pytest.approx(gaps[0] + 0.08)  # two sets of three, 0.08 m apart
     assert 1.0 - max(r.bounds()[2] for r in trap.obstacles) == pytest.approx(0.17)
-    with pytest.raises(InputError, match="study part 'weak' is not one of moderate, variants, strong"):
+    with pytest.raises(InputError, match="study part 'weak' is not one of moderate, layers, standoff, trap"):
         configurations(("weak",))
+
+
+def test_one_array_is_one_run_whatever_part_names_it():
+    # square staggered of the moderate part is the 3 layers of the layers part and standoff 0.34 of the standoff part
+    every = configurations(PARTS)
+    names = {}
+    for c in every:
+        names.setdefault(c.run("fv").name, []).append(c.label)
+    shared = sorted(labels for labels in names.values() if len(labels) > 1)
+    assert shared == [[f"{s} staggered", f"{s} staggered 3 layers", f"{s} staggered standoff 0.34"]
+                      for s in ("square", "triangle_right")]
+    # each label's scene differs from the base array only as its label says
+    scenes = {c.label: cases.get(c.case, **dict(c.parameters)) for c in every}
+    base = scenes["square staggered"].parameters
+    for label, changes in {"square staggered 7 layers": {"layers": 7},
+                           "square staggered standoff 0.51": {"standoff": 0.51},
+                           "square staggered 7 layers standoff 0.17": {"layers": 7, "standoff": 0.17},
+                           "square staggered 6 layers standoff 0.17": {"layers": 6, "standoff": 0.17},
+                           "square staggered trap 0.12": {"layers": 6, "standoff": 0.17, "trap_gap": 0.12}}.items():
+        differs = {k: v for k, v in scenes[label].parameters.items() if base[k] != v}
+        assert differs == changes, label
+    strong = scenes["triangle_right staggered trap (strong)"].parameters
+    assert strong["arrangement"] == "staggered" and strong["blast"] == "strong" and strong["trap_gap"] == 0.08
+
+
+def test_the_seed_studys_variants_are_staggered_and_the_recorded_ones_inline():
+    for part in ("layers", "standoff", "trap", "strong", "variants_inline"):
+        arrays = [c for c in configurations((part,)) if c.case == "blast_array"]
+        arrangements = {cases.get(c.case, **dict(c.parameters)).parameters["arrangement"] for c in arrays}
+        assert arrangements == {"inline" if part == "variants_inline" else "staggered"}, part
+        assert all(c.part == part for c in arrays)
+    assert [c.label for c in configurations(("trap",)) if c.label.startswith("square")] == [
+        "square staggered 6 layers standoff 0.17"] + [f"square staggered trap {g:g}" for g in TRAP_GAPS]
 
 
 def test_the_no_obstacle_channel_is_as_high_as_the_array_channel():
@@ -145,15 +177,16 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
     # a run kept with one frame (studies/blast_array/keep.py) reads as having reached 3 ms: its series are whole
     with xr.open_dataset(next((folder / "runs").glob("blast_array_*.nc"))) as run:
         assert wall_load_table([run.isel(time=[0])], ["kept"])["t_end"].item() == pytest.approx(3e-3)
-    ranks = pd.read_csv(folder / "ranking.csv", index_col=[0, 1])
+    report = folder / "moderate"  # each part's report in a folder of its own
+    ranks = pd.read_csv(report / "ranking.csv", index_col=[0, 1])
     assert ranks.loc[("moderate", "no obstacle (moderate)"), "fv"] == 3
-    spent = pd.read_csv(folder / "wall_time.csv", index_col=[0, 1]).loc[("moderate", "fv")]
+    spent = pd.read_csv(report / "wall_time.csv", index_col=[0, 1]).loc[("moderate", "fv")]
     assert spent["runs"] == 3 and spent["wall_seconds"] == pytest.approx(table["wall_seconds"].sum())
     assert spent["run_seconds"] >= spent["wall_seconds"]
-    saved = json.loads((folder / "wall_loads.json").read_text())
+    saved = json.loads((report / "wall_loads.json").read_text())
     assert len(saved) == 3 and math.isclose(saved[1]["wall_impulse_final"], by.loc["circle inline",
                                                                                      "wall_impulse_final"])
-    figures = {p.name for p in (folder / "figures").iterdir()}
+    figures = {p.name for p in (report / "figures").iterdir()}
     assert {"wall_force_fv_moderate.png", "wall_impulse_fv_moderate.png", "schlieren_fv_moderate.png",
             "density_fv_moderate.png", "wall_force_circle_inline.png"} <= figures
     # run again: every run is found finished, nothing recomputed, the same table
