@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 import subprocess
 import sys
 
@@ -265,3 +266,17 @@ def test_cli_compare_of_a_non_result_exits_2(tmp_path):
     assert done.returncode == 2
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("partmesh:") and "fake.nc" in lines[0]
+
+
+@pytest.mark.parametrize("method, case, dx", [("fv", "sod", 1e-9), ("sph", "sod", 1e-9), ("dsmc", "sod", 1e-8),
+                                              ("hybrid", "sod", 1e-9), ("swe", "prins_mound", 1e-9),
+                                              ("wcsph", "prins_mound", 1e-6)])
+def test_a_run_larger_than_the_free_memory_is_refused_before_it_allocates(method, case, dx):
+    from cases.memory import available_bytes
+
+    with pytest.raises(InputError) as info:
+        cases.run(case, method, dx=dx, progress=False)
+    message = one_sentence(info.value)
+    need, free = (float(v) for v in re.findall(r"about ([0-9.e+]+) GiB .* and ([0-9.e+]+) GiB are free", message)[0])
+    assert need > free and free == pytest.approx(available_bytes() / 2**30, rel=0.2)
+    assert message.startswith(f"{method} would need") and "raise dx" in message

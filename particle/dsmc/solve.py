@@ -36,6 +36,7 @@ from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import choice, in_range, integer, positive
 from cases.errors import InputError, Unsupported
 from cases.history import History, RunRecord
+from cases.memory import check_fits, elements_in
 from cases.scene import Inflow
 from cases.shapes import square
 from particle.dsmc.cells import cell_index, sort_into_cells
@@ -101,6 +102,9 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
     elif mean_free_path is not None:
         raise InputError("mean_free_path applies only to collisions='larsen-borgnakke'; the equilibrium redraw "
                          "has none (it is the limit of a vanishing mean free path).")
+    # (120 bytes a particle: position, three velocities, internal energy, cell and sort keys)
+    check_fits("dsmc", elements_in(scene.domain, settings["dx"]) * settings["ppc"], 120.0, "particles",
+               "dx or lower ppc")
     zeta = internal_degrees(scene.gamma)
     t0 = _time.perf_counter()
     _compile_kernels(scene.dim, zeta, settings["collisions"])

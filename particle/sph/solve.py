@@ -20,6 +20,7 @@ from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import check_obstacles, choice, in_range, positive
 from cases.errors import InputError, SolverFailed
 from cases.history import History, RunRecord
+from cases.memory import check_fits, elements_in, particle_bytes
 from cases.scene import Inflow
 from compare.io import particle_snapshot, write_particles
 from particle import kernels
@@ -255,6 +256,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     if masses == "lattice" and _has_inlet(scene):
         raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
     dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
+    check_fits("sph", elements_in(scene.domain, dx), particle_bytes(dim, 1.25 * settings["eta"]), "particles")
     check_obstacles(scene, dx)
     cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
     switches = Switches(alpha_max, alpha_min, alpha_u)

@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
+from cases.memory import check_fits, elements_in, particle_bytes
 from cases.checks import in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
@@ -219,6 +220,8 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, cfl = settings["dx"], settings["t_end"], settings["cfl"]
+    check_fits("wcsph", elements_in(scene.domain, dx) * scene.depth / dx, particle_bytes(2, 1.25 * settings["eta"]),
+               "particles")
     slice_ = flume(scene, dx, settings["damping"])
     settings["damping"] = slice_.damping
     deepest = float(np.max(np.asarray(scene.initial(scene.output.x, None)[0], float) - slice_.bed))
