@@ -111,18 +111,27 @@ def time_to_accuracy(method: str) -> list[dict]:
     return records
 
 
+#: (cells across, t_end) of the small 2D Sedov grids of ``fv`` (about 60 and 110 steps)
+SMALL_FV_GRIDS = ((64, 0.15), (128, 0.08))
+
+
 def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = False) -> list[dict]:
     """Run the benchmarks of every registered method and write ``output``."""
     records = []
     sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3),
              "dsmc": (64 if quick else 258, 8e-3), "swe": (128 if quick else 1024, 0.05),
              "wcsph": (12 if quick else 50, 0.01)}
-    for method in (m for m in THROUGHPUT if m in methods()):
+    registered = methods()
+    for method in (m for m in THROUGHPUT if m in registered):
         records += throughput(method, *sizes[method])
         if method == "swe":
             records += throughput(method, *sizes[method], precision="float32")
-        if getattr(solver(method), "medium", "gas") == "gas":  # (sod is a gas scene)
-            records += time_to_accuracy(method)
+        if method == "fv" and not quick:
+            # small grids, long enough to be timed: the rate a step loop keeps when a grid is small
+            for n, t_end in SMALL_FV_GRIDS:
+                records += throughput(method, n, t_end)
+    for method in (m for m in registered if getattr(solver(m), "medium", "gas") == "gas"):  # (sod is a gas scene)
+        records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:8s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"

@@ -28,10 +28,12 @@ def blast_inflow(blast, negative_phase, rho0, p0, gamma) -> Inflow:
     spec = exact.BLASTS[blast]
     p_peak = spec["p_peak_ratio"] * p0
 
-    def state(t):
-        p_over = exact.friedlander(t, p_peak, spec["t_plus"], spec["alpha"], negative_phase=negative_phase)
-        rho, u, p = exact.rankine_hugoniot_inflow(p_over, rho0, p0, gamma)
-        return float(rho), float(u), 0.0, float(p)
+    def state(t, xp=np):
+        p_over = exact.friedlander(t, p_peak, spec["t_plus"], spec["alpha"], negative_phase=negative_phase, xp=xp)
+        rho, u, p = exact.rankine_hugoniot_inflow(p_over, rho0, p0, gamma, xp=xp)
+        if xp is np:
+            return float(rho), float(u), 0.0, float(p)
+        return rho, u, 0.0 * rho, p
 
     return Inflow(state, f"{blast} Friedlander blast (p_peak/p0 = {spec['p_peak_ratio']}, t+ = {spec['t_plus']} s, "
                         f"alpha = {spec['alpha']}), Rankine-Hugoniot state; negative phase: {negative_phase}")

@@ -54,6 +54,22 @@ class History:
         self.t.append(t1)
         self.probes.append(np.asarray(probes, float))
 
+    def record_steps(self, t0: float, times, probes, side_forces) -> None:
+        """:meth:`record` of consecutive steps from ``t0``, ending at
+        ``times`` (one row of ``probes`` and ``side_forces`` per step)."""
+        times = np.asarray(times, float)
+        if not times.size:
+            return
+        starts = np.concatenate([[t0], times[:-1]])
+        forces = np.asarray(side_forces, float)
+        self.force_t.extend(0.5 * (starts + times))
+        self.forces.extend(forces)
+        # accumulated in step order, as record() does: the impulse is the same to the last bit
+        steps = np.concatenate([self.impulses[-1][None], (times - starts)[:, None] * forces])
+        self.impulses.extend(np.cumsum(steps, axis=0)[1:])
+        self.t.extend(times)
+        self.probes.extend(np.asarray(probes, float))
+
     def series(self, scene, t_probe: np.ndarray) -> dict:
         """The schema's time series of ``scene`` on ``t_probe``: ``p_probe``
         or ``eta_probe`` (the scene's ``probe_variable``, if it has probes) and ``wall_force``/``wall_impulse`` (if it

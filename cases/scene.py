@@ -25,6 +25,9 @@ class Inflow:
 
     ``state(t)`` returns ``(rho, u, v, p)`` at time ``t`` [s]; velocities are
     Cartesian components (an inflow through ``x_lo`` has ``u > 0``).
+    ``state(t, xp=jax.numpy)`` evaluates it on a traced ``t``, inside a
+    compiled time loop: a time-dependent state is written with the array
+    namespace ``xp`` (a constant one may ignore it).
     """
 
     state: Callable[[float], tuple[float, float, float, float]]

@@ -83,7 +83,7 @@ def shock_reflection(Ms=3.2, rho0=AIR["rho0"], p0=AIR["p0"], length=0.5, height=
     domain = ((0.0, length),) if dim == 1 else ((0.0, length), (0.0, height))
     dx = length / 500
     shape = tuple(int(round((hi - lo) / dx)) for lo, hi in domain)
-    boundaries = {"x_lo": Inflow(lambda t: (rho1, u1, 0.0, p1), f"post-shock state of a Mach {Ms:g} shock"),
+    boundaries = {"x_lo": Inflow(lambda t, xp=None: (rho1, u1, 0.0, p1), f"post-shock state of a Mach {Ms:g} shock"),
                   "x_hi": "reflect", "y_lo": "reflect", "y_hi": "reflect"}
     probes = (Probe("mid", 0.5 * length, 0.5 * height), Probe("wall", length, 0.5 * height))
     c_r_exact = exact.reflection_coefficient(Ms, gamma)
@@ -142,7 +142,7 @@ def wedge(M1=3.5, theta_deg=20.0, rho0=AIR["rho0"], p0=AIR["p0"], x_apex=0.2, t_
         name="wedge",
         parameters=dict(M1=M1, theta_deg=theta, rho0=rho0, p0=p0, x_apex=x_apex, t_end=t_end, gamma=gamma),
         dim=2, domain=domain, gamma=gamma, initial=_uniform(rho0, u1, 0.0, p0),
-        boundaries={"x_lo": Inflow(lambda t: (rho0, u1, 0.0, p0), f"free stream at M1 = {M1:g}"),
+        boundaries={"x_lo": Inflow(lambda t, xp=None: (rho0, u1, 0.0, p0), f"free stream at M1 = {M1:g}"),
                     "x_hi": "outflow", "y_lo": "reflect", "y_hi": "outflow"},
         output=OutputGrid(domain=domain, shape=(400, 300), times=(0.5 * t_end, t_end), dt_probe=t_end / 500),
         dx=2.5e-3, t_end=t_end, obstacles=(body,), probes=(Probe("free", 0.1, 0.7), Probe("ramp", 0.9, 0.6)),
@@ -230,7 +230,7 @@ def cylinder_shock(Ms=1.16, diameter=0.015, rho0=AIR["rho0"], p0=AIR["p0"], t_en
         name="cylinder_shock",
         parameters=dict(Ms=Ms, diameter=d, rho0=rho0, p0=p0, t_end=t_end, gamma=gamma),
         dim=2, domain=domain, gamma=gamma, initial=initial,
-        boundaries={"x_lo": Inflow(lambda t: (rho1, u1, 0.0, p1), f"post-shock state of a Mach {Ms:g} shock"),
+        boundaries={"x_lo": Inflow(lambda t, xp=None: (rho1, u1, 0.0, p1), f"post-shock state of a Mach {Ms:g} shock"),
                     "x_hi": "outflow", "y_lo": "reflect", "y_hi": "reflect"},
         output=OutputGrid(domain=domain, shape=(480, 240), times=(0.5 * t_end, t_end), dt_probe=t_end / 500),
         dx=2.5e-4, t_end=t_end, obstacles=(Circle(0.04, 0.03, 0.5 * d),),

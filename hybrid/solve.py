@@ -47,6 +47,7 @@ from __future__ import annotations
 import time as _time
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -55,6 +56,7 @@ from cases.checks import cfl as check_cfl
 from cases.checks import choice, in_range, integer, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
+from cases.memory import check_fits, elements_in, grid_cell_bytes
 from compare.regrid import to_output_grid
 from gridref.euler.reconstruct import LIMITERS
 from gridref.euler.riemann import RIEMANN_SOLVERS
@@ -62,7 +64,7 @@ from gridref.euler.solve import initial_state, inflow_states, scheme_for
 from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
-from gridref.march import march
+from cases.march import march, single_steps
 from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
 from hybrid.exchange import cloud, deposited, interpolated, matched
 from particle import kernels
@@ -239,7 +241,7 @@ class Coupling:
     def step(self, S: State, t: float, dt: float):
         """``(state at t + dt, CFL step of the grid, side forces)``; the CFL
         step is NaN if the step failed (``self.error`` says why)."""
-        U_fv, dt_cfl, forces, _ = self.stepper(S.U, dt, inflow_states(self.scene, t))
+        U_fv, dt_cfl, forces, _ = self.stepper(S.U, dt, t)
         if not np.isfinite(float(dt_cfl)):
             self.error = None
             return S, float("nan"), forces
@@ -335,9 +337,13 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     if abs(per_cell * settings["beta"] - 1.0) > 1e-9 or per_cell > 16:
         raise InputError(f"beta must be 1/k for a whole k from 1 to 16 (particles per cell width); got {beta}.")
     dx, t_end = settings["dx"], settings["t_end"]
+    # (the grid's share; the particles live only in the cells the sensor flags)
+    check_fits("hybrid", elements_in(scene.domain, dx / settings["beta"]), grid_cell_bytes(scene.dim + 2, scene),
+               "grid cells")
     grid = solver_grid(scene.domain, dx * per_cell)
     U = initial_state(scene, grid)
-    stepper = Stepper(scheme_for(scene, grid, settings["cfl"], limiter, riemann))
+    stepper = Stepper(scheme_for(scene, grid, settings["cfl"], limiter, riemann),
+                      inflow=lambda t: inflow_states(scene, t, jnp))
     lo, hi = np.array([a for a, _ in scene.domain]), np.array([b for _, b in scene.domain])
     region = [(a, b) for a, b in zip(lo, hi)]
     open_ = tuple(side for side in scene.sides if scene.boundaries[side] == "outflow")
@@ -345,7 +351,7 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings["threshold"], sensor, settings["buffer"],
                         Switches(alpha_max, alpha_min, alpha_u), settings["cfl_sph"])
     t0 = _time.perf_counter()
-    compile_seconds = stepper.compile(U, inflow_states(scene, 0.0))
+    jax.block_until_ready(stepper.one_step(stepper.start(U), 0.0, 0.0))
     # (the first evaluation compiles, or loads, the SPH kernels)
     S = coupling.regrouped(U, None, np.zeros((0, scene.dim)), np.zeros(0), np.zeros(coupling.n_cells, bool))
     if S.P is not None:
@@ -358,20 +364,20 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     run.totals0 = totals_of(U, coupling.volume)
     bar = run.progress_bar(0.0, t_end, progress)
 
-    def advance(S, t, t_out, dt_cfl):
-        dt = min(dt_cfl, t_out - t)
+    def step(S, t, dt):
         S_new, dt_cfl, forces = coupling.step(S, t, dt)
         if not np.isfinite(dt_cfl):
-            return S, t, dt_cfl, None, forces, 0
+            return S, dt_cfl, None, forces
         probes = interpolated(coupling.primitive(S_new.U)[-1:], probe_stencil)[0][: len(scene.probes)]
         run.totals = totals_of(S_new.U, coupling.volume)
-        return S_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
+        return S_new, dt_cfl, probes, forces
 
-    def diagnose(S, t, step, dt):
+    def diagnose(S, t, step, dt, failed):
         return coupling.error or f"hybrid's grid step turned the state non-physical at t = {t:.6g} s (step {step})."
 
     ckpt = checkpoint_for(scene, "hybrid", settings)
-    return march(run, S, 0.0, float(stepper.initial_dt(U)), t_end, advance, diagnose, ckpt, bar)
+    return march(run, S, 0.0, float(stepper.initial_dt(U)), t_end, single_steps(step), diagnose, ckpt, bar,
+                 lambda S, t, dt_cfl: {})
 
 
 def totals_of(U, volume: float) -> np.ndarray:

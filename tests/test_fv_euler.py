@@ -561,8 +561,8 @@ def failing_scene():
     """A tube whose inflow state turns non-physical (p < 0) after t = 0.01 s:
     the run must stop with SolverFailed, not produce garbage."""
 
-    def state(t):
-        return (1.0, 0.0, 0.0, 1.0 if t <= 0.01 else -1.0)
+    def state(t, xp=np):
+        return (1.0, 0.0, 0.0, xp.where(t <= 0.01, 1.0, -1.0))
 
     return Scene(
         name="goes_bad", parameters={"switch_time": 0.01}, dim=1, domain=((0.0, 1.0),), gamma=1.4,

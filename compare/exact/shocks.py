@@ -194,7 +194,7 @@ def theta_beta_mach(M1, theta_deg, gamma: float = 1.4, branch: str = "weak"):
     return np.degrees(0.5 * (low + high))[()]
 
 
-def friedlander(t, p_peak, t_plus, alpha, negative_phase: str = "friedlander"):
+def friedlander(t, p_peak, t_plus, alpha, negative_phase: str = "friedlander", xp=np):
     """Friedlander blast overpressure p_o(t) (Kinney & Graham 1985, ch. 7).
 
     p_o(t) = p_peak (1 - t/t_plus) exp(-alpha t/t_plus) for t >= 0 and 0 for
@@ -202,6 +202,8 @@ def friedlander(t, p_peak, t_plus, alpha, negative_phase: str = "friedlander"):
     for t > t_plus (the underpressure phase, p_o < 0, decaying to 0);
     ``"none"`` returns 0 for t > t_plus (the gas returns to ambient).
     Vectorised over ``t`` [s]; ``p_peak``, ``t_plus`` > 0, ``alpha`` >= 0.
+    ``xp`` is the array namespace ``t`` belongs to (``jax.numpy`` evaluates
+    it inside a compiled time loop).
     """
     p_peak, t_plus = positive("p_peak", p_peak), positive("t_plus", t_plus)
     alpha = float(alpha)
@@ -209,16 +211,16 @@ def friedlander(t, p_peak, t_plus, alpha, negative_phase: str = "friedlander"):
         raise ValueError(f"alpha must be a finite number >= 0, got {alpha}.")
     if negative_phase not in NEGATIVE_PHASES:
         raise ValueError(f"negative_phase must be one of {', '.join(NEGATIVE_PHASES)}, got {negative_phase!r}.")
-    t = np.asarray(t, dtype=float)
+    t = xp.asarray(t, dtype=float)
     tau = t / t_plus
-    p_o = p_peak * (1.0 - tau) * np.exp(-alpha * np.maximum(tau, 0.0))
+    p_o = p_peak * (1.0 - tau) * xp.exp(-alpha * xp.maximum(tau, 0.0))
     off = t < 0.0
     if negative_phase == "none":
-        off |= t > t_plus
-    return np.where(off, 0.0, p_o)[()]
+        off = off | (t > t_plus)
+    return xp.where(off, 0.0, p_o)[()]
 
 
-def rankine_hugoniot_inflow(p_over, rho0, p0, gamma: float = 1.4):
+def rankine_hugoniot_inflow(p_over, rho0, p0, gamma: float = 1.4, xp=np):
     """Gas state (rho, u, p) behind a shock of overpressure ``p_over`` into gas at rest.
 
     Rankine-Hugoniot relations written with the overpressure p_o = p - p0
@@ -228,14 +230,15 @@ def rankine_hugoniot_inflow(p_over, rho0, p0, gamma: float = 1.4):
     a0 = sqrt(gamma p0/rho0), p = p0 + p_o. Vectorised over ``p_over``. A
     negative overpressure (Friedlander negative phase) continues the formula
     smoothly (rho < rho0, u < 0; the isentrope and the Hugoniot agree to
-    third order in p_o); ``p_over`` must be > -p0.
+    third order in p_o); ``p_over`` must be > -p0 (checked where ``xp`` is
+    numpy; a traced ``p_over`` has no value to check).
     """
     gamma = ratio_of_heats(gamma)
     rho0, p0 = positive("rho0", rho0), positive("p0", p0)
-    p_over = np.asarray(p_over, dtype=float)
-    if not np.all(np.isfinite(p_over)) or np.any(p_over <= -p0):
+    p_over = xp.asarray(p_over, dtype=float)
+    if xp is np and (not np.all(np.isfinite(p_over)) or np.any(p_over <= -p0)):
         raise ValueError(f"p_over must be finite and > -p0 = {-p0}, got {p_over}.")
     a0 = np.sqrt(gamma * p0 / rho0)
     rho = rho0 * ((gamma + 1.0) * p_over + 2.0 * gamma * p0) / ((gamma - 1.0) * p_over + 2.0 * gamma * p0)
-    u = a0 * p_over / (gamma * p0) * np.sqrt(2.0 * gamma * p0 / ((gamma + 1.0) * p_over + 2.0 * gamma * p0))
+    u = a0 * p_over / (gamma * p0) * xp.sqrt(2.0 * gamma * p0 / ((gamma + 1.0) * p_over + 2.0 * gamma * p0))
     return rho, u, p0 + p_over

@@ -12,6 +12,7 @@ from cases.checks import check_initial_state, check_obstacles, choice, positive
 from cases.checkpoint import checkpoint_for
 from cases.errors import InputError
 from cases.history import History, RunRecord
+from cases.memory import check_fits, elements_in, grid_cell_bytes
 from cases.scene import Inflow
 from compare.regrid import to_output_grid
 from gridref.euler.immersed import immersed_boundary
@@ -20,20 +21,30 @@ from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import conservative, primitive
 from gridref.euler.step import FLOOR, Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
-from gridref.march import march
+from cases.march import march
 
 
 def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
 
 
-def inflow_states(scene, t):
-    """Primitive inflow state of every side at time ``t`` (zeros elsewhere)."""
+def inflow_states(scene, t, xp=np):
+    """Primitive inflow state of every side at time ``t`` (zeros elsewhere),
+    in the array namespace ``xp`` (``jax.numpy``: inside the compiled loop)."""
     rows = []
     for side in scene.sides:
         bc = scene.boundaries[side]
-        rows.append(_primitive_state(scene, *bc.state(t)) if isinstance(bc, Inflow) else (0.0,) * (scene.dim + 2))
-    return np.asarray(rows, float)
+        if isinstance(bc, Inflow):
+            try:
+                state = _primitive_state(scene, *bc.state(t, xp=xp))
+            except jax.errors.JAXTypeError as error:
+                raise InputError(f"the inflow state of side {side} of scene {scene.name} cannot be evaluated inside "
+                                 "the compiled time loop: write it with the array namespace it is given "
+                                 f"(state(t, xp)) ({type(error).__name__}).") from None
+            rows.append(xp.stack([xp.asarray(a, dtype=float) for a in state]))
+        else:
+            rows.append(xp.zeros(scene.dim + 2))
+    return xp.stack(rows)
 
 
 def _fields(W, gamma, names, solid):
@@ -88,6 +99,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end, gamma, cfl = settings["dx"], settings["t_end"], scene.gamma, settings["cfl"]
+    check_fits("fv", elements_in(scene.domain, dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
     grid = solver_grid(scene.domain, dx)
     ib = _immersed(scene, grid, dx)
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
@@ -98,32 +110,29 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         p = primitive(tuple(a.ravel()[probe_idx] for a in U), gamma)[-1]
         return jnp.sum(p * probe_w, axis=-1)
 
-    stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure)
-    run = _Run(scene, grid, ib, stepper, settings,
-               compile_seconds=stepper.compile(U, inflow_states(scene, 0.0)),
+    stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure, n_probes=len(probe_w),
+                      inflow=lambda t: inflow_states(scene, t, jnp))
+    run = _Run(scene, grid, ib, settings, compile_seconds=stepper.compile(U),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
-    t = 0.0
+    t, state = 0.0, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
     saved = ckpt.saved_state(run)
     if saved is not None:
-        U, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["U"]), saved["t"], saved["dt_cfl"]
+        state, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["state"]), saved["t"], saved["dt_cfl"]
     bar = run.progress_bar(t, t_end, progress)
 
-    def advance(U, t, t_out, dt_cfl):
-        """One step; a step that turns the state non-physical is not taken (the bad state is diagnosed)."""
-        dt = min(dt_cfl, t_out - t)
-        U_new, dt_cfl, forces, probes = stepper(U, dt, inflow_states(scene, t))
-        if not np.isfinite(dt_cfl):
-            run.failed_step = (U_new, t + dt)
-            return U, t, dt_cfl, probes, forces, 0
-        return U_new, (t_out if t + dt >= t_out * (1 - 1e-14) else t + dt), dt_cfl, probes, forces, 1
-
-    def diagnose(U, t, step, dt):
-        U, t = run.failed_step or (U, t)
+    def diagnose(state, t, step, dt, failed):
+        U = state[0]
+        if failed:  # the state the failed step of dt made
+            (U, _), _, _, _ = stepper.one_step(state, t, dt)
+            t = t + dt
         return _diagnose(U, gamma, grid, t, step, dt, None if ib is None else ib.fluid)
 
-    return march(run, U, t, dt_cfl, t_end, advance, diagnose, ckpt, bar)
+    def saved_state(state, t, dt_cfl):
+        return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
+
+    return march(run, state, t, dt_cfl, t_end, stepper.stretch, diagnose, ckpt, bar, saved_state)
 
 
 def _immersed(scene, grid, dx):
@@ -144,16 +153,19 @@ class _Run(RunRecord):
     """The record of one fv run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
 
-    def __init__(self, scene, grid, immersed, stepper, settings, compile_seconds, history):
+    def __init__(self, scene, grid, immersed, settings, compile_seconds, history):
         super().__init__(scene, "fv", settings, compile_seconds, history)
-        #: the stepper, whose vacuum floor counts go to the result
-        self.grid, self.stepper = grid, stepper
+        self.grid = grid
+        #: cells the vacuum floors changed, and the mass and energy they added, up to the latest frame
+        self.floors = np.zeros(3)
         #: the open volume fraction of every cell (1 without obstacles) and the cells whose centre is in a body
         self.volume, self.solid = (1.0, None) if immersed is None else (immersed.volume, immersed.solid)
         #: mass, momentum and energy in the gas at the first and the latest frame
         self.totals0 = self.totals = None
 
-    def fields(self, U):
+    def fields(self, state):
+        U, floors = state
+        self.floors = np.asarray(floors)
         cell = float(np.prod(self.grid.step))
         self.totals = np.array([float(np.sum(self.volume * np.asarray(a))) * cell for a in U])
         if self.totals0 is None:
@@ -177,8 +189,9 @@ class _Run(RunRecord):
                   f"{walls if self.solid is not None else ''}, a-posteriori positivity fallback to first order, "
                   f"vacuum floors ({FLOOR:g} of the largest density and pressure) where a near-vacuum still "
                   "turns negative")
-        attrs = {"regrid": how, "vacuum_floors": self.stepper.floors, "vacuum_floor_mass": self.stepper.floor_mass,
-                 "vacuum_floor_energy": self.stepper.floor_energy}
+        cells, mass, energy = self.floors
+        attrs = {"regrid": how, "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass),
+                 "vacuum_floor_energy": float(energy)}
         if _closed(scene) and self.totals is not None:
             (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)

@@ -36,6 +36,8 @@ from gridref.euler.reconstruct import LIMITERS, limited_slopes
 from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.state import primitive, rotated, sound_speed
 from gridref.grid import cropped
+from gridref.device_loop import device_loop
+from gridref.staging import staged
 
 
 def _shifted(a, axis, lo):
@@ -230,31 +232,38 @@ def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
 
 
 class Stepper:
-    """The MUSCL–Hancock step as jitted kernels.
+    """The MUSCL–Hancock step of one run, and stretches of it on the device.
 
-    ``stepper(U, dt, states) -> (U, dt_next, side_forces, probes)`` advances
-    by ``dt`` and returns the CFL step of the new state as a float (NaN if
-    the state is not physical even after the positivity fallback and the
-    vacuum floors). ``floors`` counts the cells the floors changed, and
-    ``floor_mass`` and ``floor_energy`` the mass and energy they added
-    [kg and J, per metre depth in 2D].
-    ``initial_dt(U)`` gives the first one; ``compile(U, states)`` compiles
-    every kernel ahead of time and returns the seconds it took.
+    :meth:`step` is the pure step ``(U, floors), t, dt -> ((U', floors'),
+    dt_next, probes, side_forces)``: the inflow states of time ``t``
+    (``inflow(t)``, traced), the step, the a-posteriori positivity fallback
+    (the step redone with more cells first order, up to :attr:`RETRIES`
+    times) and the vacuum floors (:func:`vacuum_floored`) as the last
+    resort; ``dt_next`` is the CFL step of the new state, NaN if it is not
+    physical even then. ``floors`` counts the cells the floors changed and
+    the mass and energy they added [kg and J, per metre depth in 2D].
+    :attr:`stretch` (:func:`gridref.device_loop.device_loop`) runs it in one
+    compiled loop; ``stepper(U, dt, t)`` is one step for a caller that
+    steps on the host (the hybrid method), counting the floors in
+    :attr:`floors`, :attr:`floor_mass` and :attr:`floor_energy`.
 
-    The step runs as a pipeline of kernels whose outputs are materialised
-    in between (see the module docstring).
+    The kernels are materialised in between (see the module docstring and
+    :mod:`gridref.staging`).
     """
 
     #: how often a step is redone with more cells first order before the
     #: state is declared unphysical
     RETRIES = 2
 
-    def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None):
+    def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None,
+                 n_probes: int = 0, inflow: Callable | None = None, n_records: int = 1024):
         self.scheme = scheme
         self.floors, self.floor_mass, self.floor_energy = 0, 0.0, 0.0
         fluid = None if immersed is None else jnp.asarray(immersed.fluid)
         open_volume = np.prod(scheme.dx) * (1.0 if immersed is None else immersed.volume)
         fill_solids = None if immersed is None else immersed.fill
+        no_inflow = jnp.zeros((2 * scheme.dim, scheme.dim + 2))
+        inflow = inflow or (lambda t: no_inflow)
 
         def update(U, F, Wh, dt):
             U_new, forces = flux_update(U, F, dt, scheme, Wh, immersed)
@@ -263,49 +272,65 @@ class Stepper:
             probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
             return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
 
-        self._ghosts = jax.jit(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids))
-        self._slopes = jax.jit(lambda Wg: slopes_of(Wg, scheme))
-        self._half = jax.jit(lambda Wg, s, dt: half_step(Wg, s, dt, scheme))
-        self._half_allowed = jax.jit(lambda Wg, s, dt, allowed: half_step(Wg, s, dt, scheme, allowed))
-        self._demote = jax.jit(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma))
-        self._flux = [jax.jit(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme)) for d in range(scheme.dim)]
-        self._update = jax.jit(update)
-        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
-
         def floored(U):
             U, cells, mass, energy = vacuum_floored(U, scheme.gamma, fluid)
             return (U, stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid), cells, jnp.sum(mass * open_volume),
                     jnp.sum(energy * open_volume))
 
-        self._floored = jax.jit(floored)
+        def step(state, t, dt):
+            U, floors = state
+            gate = jnp.isfinite(dt)
+            Wg = staged(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids), gate)(U, inflow(t))
+            slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
 
-    def __call__(self, U, dt, states):
-        Wg = self._ghosts(U, states)
-        slopes = self._slopes(Wg)
-        Wh, ok = self._half(Wg, slopes, dt)
-        out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], Wh, dt)
-        for _ in range(self.RETRIES):
-            if np.isfinite(float(out[1])):
-                break
-            ok = self._demote(ok, out[0])
-            Wh, ok = self._half_allowed(Wg, slopes, dt, ok)
-            out = self._update(U, [flux(Wh, slopes[d], ok) for d, flux in enumerate(self._flux)], Wh, dt)
-        if not np.isfinite(float(out[1])):
-            U_new, dt_next, cells, mass, energy = self._floored(out[0])
-            self.floors += int(cells)
-            self.floor_mass += float(mass)
-            self.floor_energy += float(energy)
-            out = (U_new, dt_next, *out[2:])
-        return out[0], float(out[1]), out[2], out[3]
+            def attempt(allowed):
+                Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed), gate)(Wg, slopes, allowed)
+                fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
+                          for d in range(scheme.dim)]
+                return staged(update, gate)(U, fluxes, Wh, dt), ok
 
-    def compile(self, U, states) -> float:
-        """Compile every kernel for these shapes; return the seconds spent."""
+            def retried(carry):
+                out, ok, k = carry
+                out, ok = attempt(staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma), gate)(
+                    ok, out[0]))
+                return out, ok, k + 1
+
+            out, ok = attempt(jnp.ones(Wg[0].shape, bool)[tuple(slice(1, -1) for _ in range(scheme.dim))])
+            out, _, _ = jax.lax.while_loop(lambda c: ~jnp.isfinite(c[0][1]) & (c[2] < self.RETRIES), retried,
+                                           (out, ok, 0))
+
+            def with_floors(out):
+                U_new, dt_next, cells, mass, energy = staged(floored, gate)(out[0])
+                return (U_new, dt_next, *out[2:]), jnp.stack([cells.astype(float), mass, energy])
+
+            (U_new, dt_next, forces, probes), added = jax.lax.cond(
+                jnp.isfinite(out[1]), lambda out: (out, jnp.zeros(3)), with_floors, out)
+            return (U_new, floors + added), dt_next, probes, forces
+
+        self.step = step
+        #: one step, compiled when first called
+        self.one_step = jax.jit(step)
+        self.stretch = device_loop(step, n_probes, 2 * scheme.dim, n_records)
+        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
+
+    @staticmethod
+    def start(U):
+        """The loop state of ``U``: the state and its floor counts (none yet)."""
+        return U, jnp.zeros(3)
+
+    def __call__(self, U, dt, t):
+        """``(U after one step of dt from time t, its CFL step as a float (NaN: not physical), side forces,
+        probes)``, the floors it needed added to the counts."""
+        (U_new, added), dt_next, probes, forces = self.one_step(self.start(U), t, dt)
+        cells, mass, energy = np.asarray(added)
+        self.floors += int(cells)
+        self.floor_mass += float(mass)
+        self.floor_energy += float(energy)
+        return U_new, float(dt_next), forces, probes
+
+    def compile(self, U) -> float:
+        """Compile the stretch for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
-        dt = self.initial_dt(U)
-        Wg = self._ghosts(U, states)
-        slopes = self._slopes(Wg)
-        Wh, ok = self._half(Wg, slopes, dt)
-        Wh, ok = self._half_allowed(Wg, slopes, dt, self._demote(ok, U))
-        jax.block_until_ready(self._update(U, [f(Wh, slopes[d], ok) for d, f in enumerate(self._flux)], Wh, dt))
-        jax.block_until_ready(self._floored(U))
+        jax.block_until_ready(self.initial_dt(U))
+        self.stretch.compile(self.start(U))
         return _time.perf_counter() - t0

@@ -13,10 +13,13 @@ from cases.checkpoint import checkpoint_for
 from cases.checks import choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
+from cases.memory import check_fits, elements_in, grid_cell_bytes
 from compare.regrid import to_output_grid
 from gridref.euler.reconstruct import LIMITERS
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
-from gridref.march import march
+from cases.march import march
+from gridref.device_loop import device_loop
+from gridref.staging import staged
 from gridref.swe.step import (
     DRY,
     PRECISIONS,
@@ -34,63 +37,47 @@ SETTINGS = ("dx", "cfl", "limiter", "precision", "t_end", "checkpoint", "checkpo
 
 
 class Stepper:
-    """The MUSCL–Hancock steps of one run as a pipeline of jitted kernels:
-    ghost cells, the predicted cells, the face fluxes of each direction and
-    the update (see :mod:`gridref.swe.step`: materialised between kernels,
-    a step runs several times faster than as one program).
+    """The MUSCL–Hancock step of one run, and stretches of it on the device.
 
-    ``stepper(U, t, target, t_out, dt_cfl) -> (U, t, dt_cfl, eta at the
-    gauges, steps, dt_tried)`` steps at the CFL time step until ``target``
-    is reached or passed (the last step is cut to end at ``t_out``, never
-    past it); a step that would make the state non-physical is not taken,
-    the stepping stops and ``dt_cfl`` is NaN (``step(U, dt_tried)`` then
-    gives the bad state). ``initial_dt(U)`` is the first CFL step.
+    :meth:`step` is the pure step ``U, t, dt -> (U', dt_next, eta at the
+    gauges, side forces (none))``: ghost cells, the predicted cells, the
+    face fluxes of each direction and the update (:mod:`gridref.swe.step`),
+    each a stage of its own (:mod:`gridref.staging`: fused into one
+    program, XLA:CPU computes the new state again for every reduction);
+    ``dt_next`` is NaN if the new state is not physical. :attr:`stretch`
+    runs it in one compiled loop (:func:`gridref.device_loop.device_loop`).
     """
 
-    def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight):
-        self._ghosts = jax.jit(lambda U: ghosted(U, z, scheme))
-        self._predicted = jax.jit(lambda Wg, dt: predicted(Wg, dt, scheme, radius))
-        self._fluxes = [jax.jit(lambda P, d=d: face_fluxes(P, d, scheme)) for d in range(scheme.dim)]
-
+    def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight, dtype):
         def gauges(U):
             return jnp.sum((U[0] + z).ravel()[gauge_index] * gauge_weight, axis=-1)
 
-        self._update = jax.jit(lambda U, P, fluxes, dt: updated(U, P, fluxes, dt, scheme, radius))
-        # apart from the update: fused with it, XLA:CPU computes the new state again for the reductions
-        self._checked = jax.jit(lambda U: (stable_dt(U, scheme), gauges(U)))
+        def checked(U):
+            return stable_dt(U, scheme), gauges(U)
 
-    def initial_dt(self, U):
-        """The CFL step of the state ``U``."""
-        return self._checked(U)[0]
+        no_forces = jnp.zeros(2 * scheme.dim)
 
-    def _step(self, U, dt):
-        """``(U after dt, its CFL step, eta at the gauges)``
-        (:func:`gridref.swe.step.hancock_step`)."""
-        P = self._predicted(self._ghosts(U), dt)
-        U_new = self._update(U, P, [fluxes(P) for fluxes in self._fluxes], dt)
-        return U_new, *self._checked(U_new)
+        def step(U, t, dt):
+            gate, dt = jnp.isfinite(dt), jnp.asarray(dt).astype(dtype)
+            Wg = staged(lambda U: ghosted(U, z, scheme), gate)(U)
+            P = staged(lambda Wg, dt: predicted(Wg, dt, scheme, radius), gate)(Wg, dt)
+            fluxes = [staged(lambda P, d=d: face_fluxes(P, d, scheme), gate)(P) for d in range(scheme.dim)]
+            U_new = staged(lambda U, P, F, dt: updated(U, P, F, dt, scheme, radius), gate)(U, P, fluxes, dt)
+            dt_next, eta = staged(checked, gate)(U_new)
+            return U_new, dt_next.astype(t.dtype), eta, no_forces
 
-    def step(self, U, dt):
-        """The state after one step of ``dt`` (whether physical or not)."""
-        return self._step(U, dt)[0]
-
-    def __call__(self, U, t, target, t_out, dt_cfl):
-        steps, gauges, dt = 0, None, 0.0
-        while t < target * (1 - 1e-14):
-            dt = min(dt_cfl, t_out - t)
-            U_new, dt_new, eta = self._step(U, dt)
-            dt_new = float(dt_new)
-            if not np.isfinite(dt_new):
-                dt_cfl = float("nan")
-                break
-            U, dt_cfl, gauges, steps = U_new, dt_new, eta, steps + 1
-            t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-        return U, t, dt_cfl, self._checked(U)[1] if gauges is None else gauges, steps, dt
+        self.step = step
+        #: one step, compiled when first called
+        self.one_step = jax.jit(step)
+        self.stretch = device_loop(step, len(gauge_weight), 2 * scheme.dim)
+        self.initial_dt = jax.jit(lambda U: checked(U)[0])
+        self.gauges = jax.jit(gauges)
 
     def compile(self, U) -> float:
-        """Compile the kernels for these shapes; return the seconds spent."""
+        """Compile the stretch for these shapes; return the seconds spent."""
         t0 = _time.perf_counter()
-        jax.block_until_ready(self._step(U, self.initial_dt(U)))
+        jax.block_until_ready(self.initial_dt(U))
+        self.stretch.compile(U)
         return _time.perf_counter() - t0
 
 
@@ -119,6 +106,7 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=Non
         "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
     }
     dx, t_end = settings["dx"], settings["t_end"]
+    check_fits("swe", elements_in(scene.domain, dx), grid_cell_bytes(scene.dim + 1, scene), "cells")
     grid = solver_grid(scene.domain, dx)
     X, Y = mesh(grid)
     z = np.broadcast_to(np.asarray(scene.bed(X, Y), float), X.shape)
@@ -134,7 +122,8 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=Non
     radius = radii(cell_centres(grid)[0], grid.step[0], dtype) if scheme.radial else None
     gauges = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
     gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
-    stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight))
+    stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight),
+                      dtype)
     run = _Run(scene, grid, z, settings, stepper.compile(U),
                History(np.sum((h0 + z).ravel()[gauge_index] * gauge_weight, axis=-1), 2 * scene.dim))
     t, dt_cfl = 0.0, float(stepper.initial_dt(U))
@@ -143,17 +132,16 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=Non
     if saved is not None:
         U, t, dt_cfl = tuple(jnp.asarray(a, dtype) for a in saved["U"]), saved["t"], saved["dt_cfl"]
     bar = run.progress_bar(t, t_end, progress)
-    no_forces, dt_probe = np.zeros(2 * scene.dim), scene.output.dt_probe
 
-    def advance(U, t, t_out, dt_cfl):
-        """The steps up to the next probe sample time (or ``t_out``), in one compiled loop."""
-        target = min(t_out, (np.floor(t / dt_probe + 1e-9) + 1.0) * dt_probe)
-        U, t, dt_cfl, gauges, steps, dt_tried = stepper(U, t, target, t_out, dt_cfl)
-        if not np.isfinite(dt_cfl):
-            run.failed_step = (stepper.step(U, dt_tried), t + dt_tried)
-        return U, t, dt_cfl, gauges, no_forces, steps
+    def diagnose(U, t, step, dt, failed):
+        if failed:  # the state the failed step of dt made
+            U, t = stepper.one_step(U, t, dt)[0], t + dt
+        return run.diagnosis(U, t, step, dt)
 
-    return march(run, U, t, dt_cfl, t_end, advance, run.diagnosis, ckpt, bar)
+    def saved_state(U, t, dt_cfl):
+        return {"U": [np.asarray(a) for a in U], "t": t, "dt_cfl": dt_cfl}
+
+    return march(run, U, t, dt_cfl, t_end, stepper.stretch, diagnose, ckpt, bar, saved_state)
 
 
 class _Run(RunRecord):
@@ -174,9 +162,7 @@ class _Run(RunRecord):
         return {name: values[name] for name in self.scene.fields}
 
     def diagnosis(self, U, t, step, dt) -> str:
-        """One sentence: when, where and what went wrong (in the state a
-        failed step produced, if there was one, else in ``U``)."""
-        U, t = self.failed_step or (U, t)
+        """One sentence: when, where and what went wrong in the state ``U`` at ``t``."""
         h = np.asarray(U[0])
         bad = ~(h >= 0.0) | ~np.all([np.isfinite(np.asarray(a)) for a in U], axis=0)
         if np.any(bad):

@@ -1,0 +1,89 @@
+"""Whole stretches of a grid method's steps in one compiled
+``jax.lax.while_loop`` on the device: the time step, the step, the
+failure test and the probe and side-force records never return to the
+host; :func:`cases.march.march` drives it."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from cases.march import LANDING, Stretch
+
+
+class DeviceLoop:
+    """``loop(state, t, dt_cfl, t_out, n_max, dt_floor) -> Stretch``: up to
+    ``n_max`` (≤ ``n_records``) steps of ``step`` in one compiled
+    ``jax.lax.while_loop``, each ``dt = min(dt_cfl, t_out − t)`` (the last
+    lands on ``t_out``), stopping at ``t_out``, after ``n_max`` steps, at a
+    step that turns the state non-physical or at a CFL step below
+    ``dt_floor``. A non-physical step is not taken: the loop keeps no copy
+    of the last good state (that would cost a pass over the state every
+    step), so the steps before it are made again from the stretch's start,
+    which the host still holds.
+
+    ``step(state, t, dt) -> (state, dt_next, probes, side_forces)`` is a
+    pure function of arrays; ``dt_next`` NaN says the new state is not
+    physical. The probes and forces of every step are kept on the device
+    and returned with the stretch."""
+
+    def __init__(self, step: Callable, n_probes: int, n_forces: int, n_records: int):
+        self.step, self.n_records = step, int(n_records)
+        self.n_probes, self.n_forces = n_probes, n_forces
+        self._compiled = None
+
+    def _loop(self, state, t, dt_cfl, t_out, n_max, dt_floor):
+        step, n_records = self.step, self.n_records
+        records = (jnp.zeros(n_records, t.dtype), jnp.zeros((n_records, self.n_probes), t.dtype),
+                   jnp.zeros((n_records, self.n_forces), t.dtype))
+        landing = t_out * (1.0 - LANDING)
+
+        def going(carry):
+            _, t, dt_cfl, n, _, _ = carry
+            return (t < landing) & (n < n_max) & jnp.isfinite(dt_cfl) & (dt_cfl >= dt_floor)
+
+        def one_step(carry):
+            state, t, dt_cfl, n, _, (times, probes, forces) = carry
+            dt = jnp.minimum(dt_cfl, t_out - t)
+            state, dt_next, p, f = step(state, t, dt)
+            t_new = jnp.where(t + dt >= landing, t_out, t + dt)
+            records = (times.at[n].set(t_new), probes.at[n].set(p), forces.at[n].set(f))
+            return state, t_new, dt_next, n + 1, dt, records
+
+        zero = jnp.zeros((), t.dtype)
+        return jax.lax.while_loop(going, one_step, (state, t, dt_cfl, jnp.zeros((), jnp.int32), zero, records))
+
+    def compile(self, state) -> None:
+        """Compile the loop for the shapes of ``state`` (float64 times), and
+        run it once without a step: a first execution's own costs are not
+        the run's."""
+        f = jnp.zeros((), jnp.float64)
+        self._compiled = jax.jit(self._loop).lower(state, f, f, f, jnp.zeros((), jnp.int32), f).compile()
+        jax.block_until_ready(self._compiled(state, f, f, f, jnp.zeros((), jnp.int32), f))
+
+    def __call__(self, state, t, dt_cfl, t_out, n_max, dt_floor) -> Stretch:
+        if self._compiled is None:
+            self.compile(state)
+        f = lambda x: jnp.asarray(x, jnp.float64)  # noqa: E731
+        start = (state, f(t), f(dt_cfl), f(t_out))
+        reached, t1, dt_next, n, dt_tried, records = self._compiled(
+            *start, jnp.asarray(min(n_max, self.n_records), jnp.int32), f(dt_floor))
+        n, dt_next, dt_tried = int(n), float(dt_next), float(dt_tried)
+        if not np.isfinite(dt_next):
+            # the last step turned the state non-physical: the steps before it, made again from the
+            # stretch's start (the same steps, the same state), give the last good state
+            n -= 1
+            reached, t1, _, _, _, _ = self._compiled(*start, jnp.asarray(n, jnp.int32), f(dt_floor))
+        times, probes, forces = (np.asarray(a)[:n] for a in records)  # (sliced here: a device slice compiles per length)
+        return Stretch(reached, float(t1), dt_next, dt_tried, times, probes, forces)
+
+
+def device_loop(step: Callable, n_probes: int, n_forces: int, n_records: int = 1024) -> DeviceLoop:
+    """The compiled stretch loop of ``step``, whose probes and side forces
+    are ``n_probes`` and ``n_forces`` numbers (:class:`DeviceLoop`)."""
+    return DeviceLoop(step, n_probes, n_forces, n_records)
+
+
