@@ -110,20 +110,49 @@ class ImmersedBoundary:
     def advanced(self, U, divergence, dt):
         """``U − Δt D^H`` with the redistributed remainder of every cut cell
         added to its neighbours, from the right-hand side ``divergence``
-        (per full cell volume, apertures and walls included)."""
-        kappa = jnp.asarray(self.volume)
-        around = _box_sum(kappa, self.periodic)
-        others = around - kappa
-        share_ok = others > 0.0
+        (per full cell volume, apertures and walls included).
+
+        The sums run over the few cells they concern (:attr:`redistribution`):
+        every other open cell advances with ``U − Δt D`` (there κ = 1 and no
+        neighbour gives a share, so D^H = D), a solid cell keeps its state."""
+        givers, giver_nb, band, band_nb = self.redistribution
+        open_ = jnp.asarray(self.fluid)
         out = []
         for u, D in zip(U, divergence):
-            average = _box_sum(D, self.periodic) / jnp.where(around > 0.0, around, 1.0)  # Σ κ D^C / Σ κ
-            hybrid = jnp.where(share_ok, D + (1.0 - kappa) * average, D / jnp.where(kappa > 0.0, kappa, 1.0))
-            deficit = jnp.where(share_ok, (1.0 - kappa) * (D - kappa * average), 0.0)
-            share = deficit / jnp.where(share_ok, others, 1.0)
-            gained = _box_sum(share, self.periodic) - share
-            out.append(jnp.where(kappa > 0.0, u - dt * (hybrid + gained), u))
+            kappa, average, share_ok, others = self._averaged(D, givers, giver_nb)
+            deficit = jnp.where(share_ok, (1.0 - kappa) * (D.ravel()[givers] - kappa * average), 0.0)
+            shares = jnp.zeros(D.size).at[givers].set(deficit / jnp.where(share_ok, others, 1.0)).reshape(D.shape)
+            kappa, average, share_ok, _ = self._averaged(D, band, band_nb)
+            D_band = D.ravel()[band]
+            hybrid = jnp.where(share_ok, D_band + (1.0 - kappa) * average, D_band / jnp.where(kappa > 0.0, kappa, 1.0))
+            gained = _band_sum(shares, band_nb) - shares.ravel()[band]
+            far = jnp.where(open_, u - dt * D, u)
+            out.append(far.ravel().at[band].set(u.ravel()[band] - dt * (hybrid + gained)).reshape(u.shape))
         return self.mixed(tuple(out))
+
+    def _averaged(self, D, cells, neighbours):
+        """At ``cells``: κ, the neighbourhood average D^NC = Σ κ D^C / Σ κ,
+        whether the neighbours hold open volume, and that volume."""
+        kappa = self.volume.ravel()[cells]
+        around = _band_sum(self.volume, neighbours, np)
+        others = around - kappa
+        return kappa, _band_sum(D, neighbours) / np.where(around > 0.0, around, 1.0), others > 0.0, others
+
+    @property
+    def redistribution(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(givers, their neighbours, band, its neighbours)``: the cells
+        that give a share of their remainder (κ < 1 with open volume
+        around them: cut cells and closed slivers), and the open cells
+        whose update differs from ``U − Δt D`` (κ < 1, or a giver among
+        their 3 × 3 neighbours), as flat indices, each with the flat
+        indices of its neighbourhood (:func:`neighbourhoods`)."""
+        around = _box_sum(self.volume, self.periodic)
+        givers = (self.volume < 1.0) & (around - self.volume > 0.0)
+        near = _box_sum(givers.astype(float), self.periodic) > 0.0
+        giving = np.flatnonzero(givers.ravel())
+        band = np.flatnonzero(self.fluid.ravel() & (near | (self.volume < 1.0)).ravel())
+        return giving, neighbourhoods(giving, self.shape, self.periodic), band, neighbourhoods(band, self.shape,
+                                                                                             self.periodic)
 
     def mixed(self, U):
         """``U`` with every merged group of cells set to its mean, Σ κ U / Σ κ."""
@@ -149,15 +178,48 @@ class ImmersedBoundary:
         _, label = np.unique(self.group[members], return_inverse=True)
         return members, label
 
+def neighbourhoods(cells, shape, periodic) -> np.ndarray:
+    """Per flat cell index in ``cells`` of a ``shape`` = (ny, nx) grid, the
+    flat indices of its 3 × 3 neighbourhood as ``[dx][dy]``, dx, dy = −1,
+    0, 1: wrapped along periodic axes (``periodic`` along x, y), and beyond
+    another side the index one past the last cell, which
+    :func:`_band_sum` reads as 0."""
+    ny, nx = shape
+    iy, ix = np.divmod(cells, nx)
+    out = np.empty((len(cells), 3, 3), np.int64)
+    for a, dx in enumerate((-1, 0, 1)):
+        for b, dy in enumerate((-1, 0, 1)):
+            x, y, inside = ix + dx, iy + dy, np.ones(len(cells), bool)
+            if periodic[0]:
+                x = x % nx
+            else:
+                inside &= (x >= 0) & (x < nx)
+            if periodic[1]:
+                y = y % ny
+            else:
+                inside &= (y >= 0) & (y < ny)
+            out[:, a, b] = np.where(inside, y * nx + x, ny * nx)
+    return out
+
+
+def _band_sum(a, neighbours, xp=jnp):
+    """:func:`_box_sum` of the field ``a`` at the cells whose neighbourhoods
+    ``neighbours`` lists (:func:`neighbourhoods`), added in the same order:
+    each column of three first, then the columns."""
+    values = xp.concatenate([xp.ravel(a), xp.zeros(1, a.dtype)])[neighbours]
+    columns = [(values[:, k, 0] + values[:, k, 1]) + values[:, k, 2] for k in range(3)]
+    return (columns[0] + columns[1]) + columns[2]
+
+
 def _box_sum(a, periodic):
     """Sum over each cell's 3 × 3 neighbourhood (itself included): wrapped
     along periodic axes, zero beyond the other sides."""
     for axis, wrap in ((0, periodic[1]), (1, periodic[0])):
         width = [(0, 0)] * a.ndim
         width[axis] = (1, 1)
-        padded = jnp.pad(a, width, mode="wrap" if wrap else "constant")
+        padded = np.pad(a, width, mode="wrap" if wrap else "constant")
         n = a.shape[axis]
-        a = sum(jax.lax.slice_in_dim(padded, k, k + n, axis=axis) for k in range(3))
+        a = sum(np.take(padded, np.arange(k, k + n), axis=axis) for k in range(3))
     return a
 
 

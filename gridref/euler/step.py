@@ -225,10 +225,19 @@ def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
     if immersed is None:
         divergence, forces = flux_divergence(fluxes, scheme)
         return tuple(u - dt * div for u, div in zip(U, divergence)), forces
+    divergence, forces = cut_cell_divergence(fluxes, Wh, scheme, immersed)
+    return immersed.advanced(U, divergence, dt), forces
+
+
+def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed):
+    """``(D, side_forces)``: the right-hand side of the cut-cell update,
+    the faces' fluxes through their open fractions plus the walls'
+    pressure from the half-step state ``Wh`` (the interior plus one ghost
+    layer), per full cell volume."""
     divergence, forces = flux_divergence(fluxes, scheme, immersed.apertures)
     W = tuple(cropped(a, scheme.axes) for a in Wh)
     walls = immersed.wall_divergence(W, scheme.gamma, scheme.riemann)
-    return immersed.advanced(U, [d + w for d, w in zip(divergence, walls)], dt), forces
+    return [d + w for d, w in zip(divergence, walls)], forces
 
 
 class Stepper:
@@ -265,12 +274,19 @@ class Stepper:
         no_inflow = jnp.zeros((2 * scheme.dim, scheme.dim + 2))
         inflow = inflow or (lambda t: no_inflow)
 
-        def update(U, F, Wh, dt):
-            U_new, forces = flux_update(U, F, dt, scheme, Wh, immersed)
-            if immersed is not None:
-                U_new = immersed.reset(U_new, solid_state)
+        def checked(U_new, forces):
             probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
             return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
+
+        def update(U, F, Wh, dt, gate):
+            if immersed is None:
+                return staged(lambda U, F, dt: checked(*flux_update(U, F, dt, scheme)), gate)(U, F, dt)
+            # the cut-cell update in three stages: its right-hand side, the redistribution (which reads
+            # the right-hand side of every neighbour), the reset of the solid cells with the checks
+            D, forces = staged(lambda F, Wh: cut_cell_divergence(F, Wh, scheme, immersed), gate)(F, Wh)
+            U_new = staged(lambda U, D, dt: immersed.advanced(U, D, dt), gate)(U, D, dt)
+            return staged(lambda U_new, forces: checked(immersed.reset(U_new, solid_state), forces), gate)(U_new,
+                                                                                                         forces)
 
         def floored(U):
             U, cells, mass, energy = vacuum_floored(U, scheme.gamma, fluid)
@@ -287,7 +303,7 @@ class Stepper:
                 Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed), gate)(Wg, slopes, allowed)
                 fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                           for d in range(scheme.dim)]
-                return staged(update, gate)(U, fluxes, Wh, dt), ok
+                return update(U, fluxes, Wh, dt, gate), ok
 
             def retried(carry):
                 out, ok, k = carry
