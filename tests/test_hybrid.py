@@ -236,3 +236,10 @@ def test_hybrid_refuses_bad_settings_in_one_sentence(settings, words):
 def test_hybrid_refuses_scenes_with_obstacles():
     with pytest.raises(InputError, match="without obstacles"):
         cases.run(cases.get("blast_array", one_period=True), "hybrid", progress=False)
+
+
+def test_settings_given_as_text_run_as_their_values():
+    # the CLI passes --option eta=4 as the text '4': the particles must see the number
+    as_text = cases.run("sod", "hybrid", dx=5e-3, eta="4", alpha_max="2.5", kernel="wendland_c6", progress=False)
+    as_numbers = cases.run("sod", "hybrid", dx=5e-3, eta=4.0, alpha_max=2.5, progress=False)
+    np.testing.assert_array_equal(as_text["rho"].values, as_numbers["rho"].values)
