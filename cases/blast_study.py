@@ -288,9 +288,55 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
                                  time=SNAPSHOT_TIME, columns=1)
             plots.field_maps(shown, "rho", figures / f"density_{method}_{part}.png", names=titles,
                              time=SNAPSHOT_TIME, columns=1)
+    if any(c.part in TRENDS for c in configs):
+        _trends(table, configs, folder)
     if missing:
         print(f"{len(missing)} runs not finished: {', '.join(missing)}")
     return table
+
+
+#: the parts whose configurations differ in one number: that scene parameter and its axis label
+TRENDS = {"layers": ("layers", "layers"), "standoff": ("standoff", "standoff [m]"), "trap": ("trap_gap", "trap gap [m]")}
+#: the wall loads drawn against it, their labels and scales
+TREND_QUANTITIES = {"wall_peak_overpressure_fitted": ("peak wall overpressure, fitted [kPa]", 1e-3),
+                    "wall_force_peak_fitted": ("peak wall force, fitted [kN/m]", 1e-3),
+                    "wall_force_peak_raw": ("peak wall force, raw [kN/m]", 1e-3),
+                    "wall_impulse_final": ("wall impulse at 3 ms [N s/m]", 1.0)}
+
+
+def _trends(table: pd.DataFrame, configs, folder: Path) -> None:
+    """The wall loads of a part against the number its configurations
+    differ in (layers, standoff, trap gap), every method and shape on one
+    figure (``trend_<part>.png``) and as a table (``trend.csv``); for the
+    layers, the change of each load from 3 to 5 and from 5 to 7 layers
+    (``layer_reduction.csv``, relative to the fewer layers)."""
+    from compare import plots
+
+    by_label = {c.label: c for c in configs}
+    rows = table[table["configuration"].isin(by_label)].copy()
+    part = by_label[rows["configuration"].iloc[0]].part
+    key, xlabel = TRENDS[part]
+    scenes = {label: by_label[label].scene().parameters for label in rows["configuration"]}
+    rows["shape"] = [scenes[label]["shape"] for label in rows["configuration"]]
+    rows[key] = [scenes[label][key] for label in rows["configuration"]]
+    rows["wall_peak_overpressure_fitted"] = rows["wall_peak_pressure_fitted"] - [scenes[label]["p0"]
+                                                                                for label in rows["configuration"]]
+    if part == "standoff":  # (the 7 layers at 0.17 m are compared with the 3 at 0.17 m in the table, not drawn)
+        rows = rows[[scenes[label]["layers"] == BASE_LAYERS for label in rows["configuration"]]]
+    quantities = list(TREND_QUANTITIES)
+    rows[["configuration", "method", "shape", key] + quantities].to_csv(folder / "trend.csv", index=False)
+    plots.trends(rows, key, quantities, folder / f"trend_{part}.png",
+                 f"wall loads against {xlabel.split(' [')[0]} (staggered arrays)", xlabel,
+                 {q: v[0] for q, v in TREND_QUANTITIES.items()}, {q: v[1] for q, v in TREND_QUANTITIES.items()})
+    if part == "layers":
+        changes = []
+        for (method, shape), group in rows.groupby(["method", "shape"], sort=False):
+            values = group.set_index(key)
+            for n0, n1 in ((3, 5), (5, 7)):
+                if n0 in values.index and n1 in values.index:
+                    changes.append({"method": method, "shape": shape, "from": n0, "to": n1,
+                                    **{q: values.loc[n1, q] / values.loc[n0, q] - 1.0 for q in quantities}})
+        pd.DataFrame(changes).to_csv(folder / "layer_reduction.csv", index=False)
 
 
 def run_sensitivity(ladders: dict, output: str | Path = "study", label: str = "circle inline",

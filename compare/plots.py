@@ -110,6 +110,34 @@ def speed_versus_error(df, error: str, path, title: str, ylabel: str | None = No
     return _save_log_log(fig, ax, "wall time [s]", error, title, path, ylabel)
 
 
+def trends(df, x: str, quantities, path, title: str, xlabel: str, labels=None, scales=None) -> Path:
+    """``quantities`` (columns of ``df``) against the column ``x``, one
+    panel each, one line per ``method`` and ``shape`` (methods by colour,
+    shapes by marker and line style); ``labels`` and ``scales`` name and
+    scale each quantity (e.g. N/m as kN/m)."""
+    labels, scales = labels or {}, scales or {}
+    columns = min(2, len(quantities))
+    rows = -(-len(quantities) // columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(4.6 * columns, 3.4 * rows), squeeze=False)
+    colours = {m: f"C{k}" for k, m in enumerate(dict.fromkeys(df["method"]))}
+    styles = {s: st for s, st in zip(dict.fromkeys(df["shape"]), (("o", "-"), ("s", "--"), ("^", ":"), ("D", "-.")))}
+    for ax in axes.flat[len(quantities):]:
+        ax.set_visible(False)
+    for ax, q in zip(axes.flat, quantities):
+        for (method, shape), group in df.groupby(["method", "shape"], sort=False):
+            group = group.sort_values(x)
+            marker, line = styles[shape]
+            ax.plot(group[x], group[q] * scales.get(q, 1.0), marker=marker, ls=line, color=colours[method],
+                    label=f"{method}, {shape}")
+        ax.set_xticks(sorted(df[x].unique()))
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(labels.get(q, q.replace("_", " ")))
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=8)
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
 def convergence(df, error: str, path, title: str) -> Path:
     """``error`` against ``dx``, log–log, one line per method, its observed
     order (least-squares slope) in the legend where it has ≥ 2 levels."""

@@ -223,3 +223,20 @@ def test_a_resolution_study_gives_the_gci_and_the_error_against_the_finest_fv_ru
     assert row["f1"] == pytest.approx(df["wall_impulse_final"].iloc[-1]) and row["dx1"] == pytest.approx(2e-3)
     assert row["gci_fine"] > 0.0 and abs(row["f_ext"] - row["f1"]) < abs(row["f1"] - row["f2"])
     assert (tmp_path / "sensitivity" / "speed_versus_error_wall_impulse_final.png").stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_more_staggered_layers_shield_the_wall_more(tmp_path):
+    """fv at 4 mm, 3, 5 and 7 staggered layers of squares: every two layers
+    added lower the wall impulse and the peak wall force (seed study:
+    about 40 % each), and the layer table says by how much."""
+    configs = [c for c in configurations(("layers",)) if c.label.startswith("square")]
+    table = run_study(["fv"], ("layers",), tmp_path, dx={"fv": 4e-3}, workers=2, progress=False, configs=configs)
+    loads = table.set_index("configuration")
+    changes = pd.read_csv(tmp_path / "layers" / "layer_reduction.csv").set_index(["from", "to"])
+    for n0, n1 in ((3, 5), (5, 7)):
+        for q in ("wall_impulse_final", "wall_force_peak_raw"):
+            before, after = (loads.loc[f"square staggered {n} layers", q] for n in (n0, n1))
+            assert after < 0.9 * before, (q, n0, n1)
+            assert changes.loc[(n0, n1), q] == pytest.approx(after / before - 1.0, rel=1e-12)
+    assert (tmp_path / "layers" / "trend_layers.png").stat().st_size > 0

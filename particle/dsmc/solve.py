@@ -47,6 +47,7 @@ from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
 from particle.dsmc.sample import CellSums, moment_state
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
                                  push_out_of_obstacles)
+from particle.threads import threads_for
 
 SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "collisions", "mean_free_path", "omega", "z_rot", "t_end", "progress",
             *CHECKPOINT_SETTINGS)
@@ -123,7 +124,7 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
         t, frame = saved["t"], saved["frame"]
         gas.restore(saved["gas"])
     bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals():
+    with ckpt.watching_signals(), threads_for(gas.x.shape[0]):
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
                 while t < t_out * (1 - 1e-14):

@@ -41,6 +41,7 @@ from particle.sph.particles import (
 from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import in_box, virtual_state, walls
+from particle.threads import threads_for
 
 SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "masses", "t_end", "progress", "particles",
             *CHECKPOINT_SETTINGS)
@@ -298,7 +299,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
         if inflow:
             inflow.inflowed, inflow.entered, inflow.adjacent = saved["inflow"]
     bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals():
+    with ckpt.watching_signals(), threads_for(P.x.shape[0]):
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
                 while t < t_out * (1 - 1e-14):

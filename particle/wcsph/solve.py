@@ -40,6 +40,7 @@ from particle.neighbours import padded, sort_order
 from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
 from particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid
+from particle.threads import threads_for
 from particle.wcsph.flume import Tait, damping_rate, flume, water_at_rest
 from particle.wcsph.rates import dynamic_density_gradients, rates
 
@@ -248,7 +249,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
         sph.counters = saved["counters"]
     no_forces = np.zeros(2)
     bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals():
+    with ckpt.watching_signals(), threads_for(P.x.shape[0]):
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
                 while t < t_out * (1 - 1e-14):
