@@ -51,6 +51,12 @@ class Stretch:
         return len(self.times)
 
 
+def output_times(scene, t_end: float) -> list[float]:
+    """The times a run to ``t_end`` keeps a frame at: the scene's output
+    times before ``t_end``, then ``t_end``."""
+    return [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+
+
 class StretchSizer:
     """How many steps the next stretch may take: as many as fit in
     :data:`STRETCH_SECONDS` at the rate the last stretch ran (one at
@@ -80,7 +86,7 @@ def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, 
     ``saved_state(state, t, dt_cfl)`` (a dict) between stretches; ``bar``
     shows the progress.
     """
-    out_times = [s for s in run.scene.output.times if s < t_end * (1 - 1e-12)] + [t_end]
+    out_times = output_times(run.scene, t_end)
     sizer, floor = StretchSizer(advance.n_records), DT_FLOOR * t_end
     with ckpt.watching_signals():
         try:

@@ -352,7 +352,7 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     grid = solver_grid(scene.domain, dx * per_cell)
     U = initial_state(scene, grid)
     stepper = Stepper(scheme_for(scene, grid, settings["cfl"], limiter, riemann),
-                      inflow=lambda t: inflow_states(scene, t, jnp))
+                      inflow=lambda t: inflow_states(scene, t))
     lo, hi = np.array([a for a, _ in scene.domain]), np.array([b for _, b in scene.domain])
     region = [(a, b) for a, b in zip(lo, hi)]
     open_ = tuple(side for side in scene.sides if scene.boundaries[side] == "outflow")

@@ -116,27 +116,29 @@ class ImmersedBoundary:
         every other open cell advances with ``U − Δt D`` (there κ = 1 and no
         neighbour gives a share, so D^H = D), a solid cell keeps its state."""
         givers, giver_nb, band, band_nb = self.redistribution
+        kappa_g, around_g, others_g = self._volumes(givers, giver_nb)
+        kappa_b, around_b, others_b = self._volumes(band, band_nb)
         open_ = jnp.asarray(self.fluid)
         out = []
         for u, D in zip(U, divergence):
-            kappa, average, share_ok, others = self._averaged(D, givers, giver_nb)
-            deficit = jnp.where(share_ok, (1.0 - kappa) * (D.ravel()[givers] - kappa * average), 0.0)
-            shares = jnp.zeros(D.size).at[givers].set(deficit / jnp.where(share_ok, others, 1.0)).reshape(D.shape)
-            kappa, average, share_ok, _ = self._averaged(D, band, band_nb)
+            average = _band_sum(D, giver_nb) / np.where(around_g > 0.0, around_g, 1.0)  # Σ κ D^C / Σ κ
+            deficit = jnp.where(others_g > 0.0, (1.0 - kappa_g) * (D.ravel()[givers] - kappa_g * average), 0.0)
+            shares = jnp.zeros(D.size).at[givers].set(deficit / np.where(others_g > 0.0, others_g, 1.0))
+            average = _band_sum(D, band_nb) / np.where(around_b > 0.0, around_b, 1.0)
             D_band = D.ravel()[band]
-            hybrid = jnp.where(share_ok, D_band + (1.0 - kappa) * average, D_band / jnp.where(kappa > 0.0, kappa, 1.0))
-            gained = _band_sum(shares, band_nb) - shares.ravel()[band]
+            hybrid = jnp.where(others_b > 0.0, D_band + (1.0 - kappa_b) * average,
+                               D_band / np.where(kappa_b > 0.0, kappa_b, 1.0))
+            gained = _band_sum(shares.reshape(D.shape), band_nb) - shares[band]
             far = jnp.where(open_, u - dt * D, u)
             out.append(far.ravel().at[band].set(u.ravel()[band] - dt * (hybrid + gained)).reshape(u.shape))
         return self.mixed(tuple(out))
 
-    def _averaged(self, D, cells, neighbours):
-        """At ``cells``: κ, the neighbourhood average D^NC = Σ κ D^C / Σ κ,
-        whether the neighbours hold open volume, and that volume."""
+    def _volumes(self, cells, neighbours):
+        """At ``cells``: κ, its sum Σ κ over their 3 × 3 neighbourhoods, and
+        the open volume of the neighbours alone."""
         kappa = self.volume.ravel()[cells]
         around = _band_sum(self.volume, neighbours, np)
-        others = around - kappa
-        return kappa, _band_sum(D, neighbours) / np.where(around > 0.0, around, 1.0), others > 0.0, others
+        return kappa, around, around - kappa
 
     @property
     def redistribution(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -28,23 +28,23 @@ def _primitive_state(scene, rho, u, v, p):
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
 
 
-def inflow_states(scene, t, xp=np):
-    """Primitive inflow state of every side at time ``t`` (zeros elsewhere),
-    in the array namespace ``xp`` (``jax.numpy``: inside the compiled loop)."""
+def inflow_states(scene, t):
+    """Primitive inflow state of every side at the traced time ``t`` (zeros
+    elsewhere), for the compiled loop."""
     rows = []
     for side in scene.sides:
         bc = scene.boundaries[side]
         if isinstance(bc, Inflow):
             try:
-                state = _primitive_state(scene, *bc.state(t, xp=xp))
+                state = _primitive_state(scene, *bc.state(t, xp=jnp))
             except jax.errors.JAXTypeError as error:
                 raise InputError(f"the inflow state of side {side} of scene {scene.name} cannot be evaluated inside "
                                  "the compiled time loop: write it with the array namespace it is given "
                                  f"(state(t, xp)) ({type(error).__name__}).") from None
-            rows.append(xp.stack([xp.asarray(a, dtype=float) for a in state]))
+            rows.append(jnp.stack([jnp.asarray(a, dtype=float) for a in state]))
         else:
-            rows.append(xp.zeros(scene.dim + 2))
-    return xp.stack(rows)
+            rows.append(jnp.zeros(scene.dim + 2))
+    return jnp.stack(rows)
 
 
 def _fields(W, gamma, names, solid):
@@ -111,7 +111,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
         return jnp.sum(p * probe_w, axis=-1)
 
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure, n_probes=len(probe_w),
-                      inflow=lambda t: inflow_states(scene, t, jnp))
+                      inflow=lambda t: inflow_states(scene, t))
     run = _Run(scene, grid, ib, settings, compile_seconds=stepper.compile(U),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     t, state = 0.0, stepper.start(U)

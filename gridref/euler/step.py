@@ -253,8 +253,7 @@ class Stepper:
     the mass and energy they added [kg and J, per metre depth in 2D].
     :attr:`stretch` (:func:`gridref.device_loop.device_loop`) runs it in one
     compiled loop; ``stepper(U, dt, t)`` is one step for a caller that
-    steps on the host (the hybrid method), counting the floors in
-    :attr:`floors`, :attr:`floor_mass` and :attr:`floor_energy`.
+    steps on the host (the hybrid method).
 
     The kernels are materialised in between (see the module docstring and
     :mod:`gridref.staging`).
@@ -267,7 +266,6 @@ class Stepper:
     def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None,
                  n_probes: int = 0, inflow: Callable | None = None, n_records: int = 1024):
         self.scheme = scheme
-        self.floors, self.floor_mass, self.floor_energy = 0, 0.0, 0.0
         fluid = None if immersed is None else jnp.asarray(immersed.fluid)
         open_volume = np.prod(scheme.dx) * (1.0 if immersed is None else immersed.volume)
         fill_solids = None if immersed is None else immersed.fill
@@ -336,12 +334,8 @@ class Stepper:
 
     def __call__(self, U, dt, t):
         """``(U after one step of dt from time t, its CFL step as a float (NaN: not physical), side forces,
-        probes)``, the floors it needed added to the counts."""
-        (U_new, added), dt_next, probes, forces = self.one_step(self.start(U), t, dt)
-        cells, mass, energy = np.asarray(added)
-        self.floors += int(cells)
-        self.floor_mass += float(mass)
-        self.floor_energy += float(energy)
+        probes)``."""
+        (U_new, _), dt_next, probes, forces = self.one_step(self.start(U), t, dt)
         return U_new, float(dt_next), forces, probes
 
     def compile(self, U) -> float:

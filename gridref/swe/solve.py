@@ -71,7 +71,6 @@ class Stepper:
         self.one_step = jax.jit(step)
         self.stretch = device_loop(step, len(gauge_weight), 2 * scheme.dim)
         self.initial_dt = jax.jit(lambda U: checked(U)[0])
-        self.gauges = jax.jit(gauges)
 
     def compile(self, U) -> float:
         """Compile the stretch for these shapes; return the seconds spent."""

@@ -36,6 +36,7 @@ from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import choice, in_range, integer, positive
 from cases.errors import InputError, Unsupported
 from cases.history import History, RunRecord
+from cases.march import output_times
 from cases.memory import check_fits, elements_in
 from cases.scene import Inflow
 from cases.shapes import square
@@ -115,7 +116,7 @@ def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilib
         gas.collide_with(settings["mean_free_path"], settings["omega"], settings["z_rot"], settings["cfl"])
     run = _Run(scene, gas, settings, compile_seconds)
     t_end, cfl, window = settings["t_end"], settings["cfl"], settings["window"]
-    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+    out_times = output_times(scene, t_end)
     t = 0.0
     frame = gas.output_sums()
     ckpt = checkpoint_for(scene, "dsmc", settings, checkpoint, checkpoint_every, resume)

@@ -20,6 +20,7 @@ from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
 from cases.checks import check_obstacles, choice, in_range, positive
 from cases.errors import InputError, SolverFailed
 from cases.history import History, RunRecord
+from cases.march import output_times
 from cases.memory import check_fits, elements_in, particle_bytes
 from cases.scene import Inflow
 from compare.io import particle_snapshot, write_particles
@@ -287,7 +288,7 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     _observe_inlet(inflow, P, E, 0.0, eta)
     run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
-    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+    out_times = output_times(scene, t_end)
     t, t_sampled = 0.0, 0.0
     ckpt = checkpoint_for(scene, "sph", settings, checkpoint, checkpoint_every, resume)
     saved = ckpt.saved_state(run)

@@ -30,10 +30,11 @@ import numba
 import numpy as np
 
 from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
-from cases.memory import check_fits, elements_in, particle_bytes
 from cases.checks import in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
+from cases.march import output_times
+from cases.memory import check_fits, elements_in, particle_bytes
 from compare.io import particle_snapshot, write_particles
 from particle import kernels
 from particle.neighbours import padded, sort_order
@@ -240,7 +241,7 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
     sph.counters = 0.0, 0, 0.0, 0
     run = _Run(scene, sph, settings, compile_seconds, History(h_gauges + slice_.bed, 2))
     run.energies.append((0.0, sph.energy(P)))
-    out_times = [t for t in scene.output.times if t < t_end * (1 - 1e-12)] + [t_end]
+    out_times = output_times(scene, t_end)
     t, t_sampled = 0.0, 0.0
     ckpt = checkpoint_for(scene, "wcsph", settings, checkpoint, checkpoint_every, resume)
     saved = ckpt.saved_state(run)
