@@ -201,11 +201,12 @@ class Checkpoint:
             clear_stop_request()
 
 
-def checkpoint_for(scene, method: str, settings: dict, checkpoint=None, checkpoint_every=600.0,
-                   resume=False) -> Checkpoint:
-    """The :class:`Checkpoint` of a run of ``scene`` with ``method`` and
-    ``settings`` (its identity)."""
+def checkpoint_for(scene, settings) -> Checkpoint:
+    """The :class:`Checkpoint` of a run of ``scene`` with ``settings`` (a
+    :class:`~cases.settings.Settings`): its file, period and resume flag,
+    and the run's identity (scene, method, the settings it computes with)."""
     from compare.schema import version
 
-    identity = {"version": version(), "scene": scene.to_dict(), "method": method, "settings": settings}
-    return Checkpoint(checkpoint, checkpoint_every, resume, identity)
+    identity = {"version": version(), "scene": scene.to_dict(), "method": settings.method,
+                "settings": settings.record()}
+    return Checkpoint(settings.checkpoint, settings.checkpoint_every, settings.resume, identity)

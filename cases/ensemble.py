@@ -15,7 +15,6 @@ moments and are averaged as they are.
 
 from __future__ import annotations
 
-import inspect
 import json
 
 import numpy as np
@@ -31,12 +30,12 @@ def run_ensemble(scene, method: str, ensembles: int, seed: int = 0, scheduler: s
     ``method`` (which must take a ``seed``), seeds ``seed`` … ``seed +
     ensembles − 1``, run on the Dask scheduler at ``scheduler`` or on a
     LocalCluster of ``workers`` processes (default: one per core)."""
-    from cases.run import solver
+    from cases.run import registered
 
-    solve = solver(method)
-    if "seed" not in inspect.signature(solve).parameters:
+    if not registered(method).takes_seed:
         raise InputError(f"method {method} is deterministic: ensembles need a method with a seed (dsmc).")
     ensembles, seed = integer("ensembles", ensembles, 1), integer("seed", seed, 0)
+    registered(method).checked(scene, {**settings, "seed": seed})  # (bad settings refused here, not on the workers)
     seeds = [seed + k for k in range(ensembles)]
     n_workers = local_workers(ensembles, workers)
     threads = None if scheduler else threads_per_run(n_workers)
@@ -52,9 +51,10 @@ def _member(scene, method, seed, threads, settings):
         import numba
 
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    from cases.run import solver
+    from cases.run import registered
 
-    return solver(method)(scene, seed=seed, **settings)
+    chosen = registered(method)
+    return chosen.solve(scene, chosen.checked(scene, {**settings, "seed": seed}))
 
 
 def ensemble_average(members: list, gamma: float):

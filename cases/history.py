@@ -26,12 +26,11 @@ from compare.schema import result
 
 @dataclass
 class History:
-    """Per-step records of one run.
+    """The records of one run, one per step or per probe sample.
 
-    ``record(t0, dt, probes, side_forces)`` stores the probe values at the end
-    of the step ``[t0, t0 + dt]`` and the time-centred force on every side
-    over it (per metre depth in 2D, per square metre in 1D); the impulse is
-    accumulated exactly as Σ force·dt.
+    A record of ``[t0, t1]`` holds the probe values at ``t1`` and the
+    time-centred force on every side over the interval (per metre depth in
+    2D, per square metre in 1D); the impulse is accumulated as Σ force·dt.
     """
 
     probes0: np.ndarray
@@ -46,17 +45,9 @@ class History:
         self.probes = [np.asarray(self.probes0, float)]
         self.impulses = [np.zeros(self.n_sides)]
 
-    def record(self, t0: float, t1: float, probes, side_forces) -> None:
-        forces = np.asarray(side_forces, float)
-        self.force_t.append(0.5 * (t0 + t1))
-        self.forces.append(forces)
-        self.impulses.append(self.impulses[-1] + (t1 - t0) * forces)
-        self.t.append(t1)
-        self.probes.append(np.asarray(probes, float))
-
     def record_steps(self, t0: float, times, probes, side_forces) -> None:
-        """:meth:`record` of consecutive steps from ``t0``, ending at
-        ``times`` (one row of ``probes`` and ``side_forces`` per step)."""
+        """Records of consecutive intervals from ``t0``, ending at ``times``
+        (one row of ``probes`` and ``side_forces`` per interval)."""
         times = np.asarray(times, float)
         if not times.size:
             return
@@ -64,7 +55,7 @@ class History:
         forces = np.asarray(side_forces, float)
         self.force_t.extend(0.5 * (starts + times))
         self.forces.extend(forces)
-        # accumulated in step order, as record() does: the impulse is the same to the last bit
+        # accumulated in interval order: the same impulse, to the last bit, as one record at a time
         steps = np.concatenate([self.impulses[-1][None], (times - starts)[:, None] * forces])
         self.impulses.extend(np.cumsum(steps, axis=0)[1:])
         self.t.extend(times)
@@ -102,8 +93,8 @@ class RunRecord(ABC):
         self.compile_seconds, self.history = compile_seconds, history
         self.frames, self.frame_times, self.frame_seconds, self.n_steps = [], [], [], 0
         self.t_start = _time.perf_counter()
-        #: (state, time) that a step which turned the state non-physical produced, for the diagnosis
-        self.failed_step = None
+        #: the last good state of the run and its time (:func:`cases.march.march` keeps them)
+        self.state, self.t = None, 0.0
 
     def progress_bar(self, t: float, t_end: float, progress: bool):
         """The run's progress bar from ``t`` to ``t_end``: simulated time, wall
@@ -113,6 +104,15 @@ class RunRecord(ABC):
         return tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"{self.method} {self.scene.name}",
                     leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
                                             "[{elapsed}<{remaining}] {postfix}")
+
+    def output_frame(self, state) -> dict:
+        """The fields an output frame keeps of ``state``: :meth:`fields`,
+        unless a method averages its frames over steps."""
+        return self.fields(state)
+
+    @abstractmethod
+    def fields(self, state) -> dict:
+        """The fields (name -> array on the output grid) of ``state``."""
 
     def add_frame(self, fields: dict, t: float) -> None:
         """Keep the fields (name -> array) of output time ``t``, and the wall

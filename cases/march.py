@@ -7,8 +7,8 @@ when a step turns the state non-physical or the time step collapses.
 A method supplies the stretch: a callable ``advance(state, t, dt_cfl,
 t_out, n_max, dt_floor) -> Stretch`` that takes up to ``n_max`` steps
 toward ``t_out`` (the grid methods: a whole stretch in one compiled loop
-on the device, :mod:`gridref.device_loop`; a method that steps on the host:
-one step, :func:`single_steps`). The host sees the state once per stretch;
+on the device, :mod:`gridref.device_loop`; the particle methods and the
+hybrid, which step on the host: one step, :class:`single_steps`). The host sees the state once per stretch;
 a stretch is sized to about :data:`STRETCH_SECONDS` of work, so the
 progress bar, checkpoints and stop requests are served a few times a
 second whatever the problem.
@@ -33,10 +33,12 @@ STRETCH_SECONDS = 0.25
 @dataclass
 class Stretch:
     """What a stretch of steps returns to the host: the state reached, its
-    time, its CFL step (NaN if the next step turned the state non-physical:
-    the state and time are then the last good ones, and ``dt_tried`` is the
-    step that failed), and per step taken its end time, probe values and
-    side forces."""
+    time, its stable step (NaN if the next step turned the state
+    non-physical: the state and time are then the last good ones, and
+    ``dt_tried`` is the step that failed), the steps taken, and per record
+    its end time, probe values and side forces: one record per step, or
+    fewer where a method samples its probes at the scene's ``dt_probe``
+    (a record then spans the steps since the last one)."""
 
     state: object
     t: float
@@ -45,10 +47,25 @@ class Stretch:
     times: np.ndarray
     probes: np.ndarray
     forces: np.ndarray
+    steps: int = -1
 
-    @property
-    def steps(self) -> int:
-        return len(self.times)
+    def __post_init__(self):
+        if self.steps < 0:
+            self.steps = len(self.times)
+
+
+class StepFailed(Exception):
+    """Raised by a method's step that cannot go on (an unstable or
+    non-physical state it diagnosed itself); the message says when, where
+    and what, and :func:`march` stops the run with the result up to the
+    last good state."""
+
+
+def landed(t: float, dt: float, t_out: float) -> float:
+    """The time a step of ``dt`` from ``t`` ends at: ``t_out`` once within
+    :data:`LANDING` of it (no sliver of a step is left before an output
+    time)."""
+    return t_out if t + dt >= t_out * (1 - LANDING) else t + dt
 
 
 def output_times(scene, t_end: float) -> list[float]:
@@ -70,56 +87,74 @@ class StretchSizer:
             self.n = int(np.clip(STRETCH_SECONDS * steps / max(seconds, 1e-9), 1, self.limit))
 
 
-def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, diagnose, ckpt, bar,
-          saved_state):
+def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, ckpt, bar, saved_state,
+          diagnose=None):
     """Advance ``state`` from ``t`` to ``t_end`` in stretches of
     ``advance`` (see the module docstring; ``advance.n_records`` bounds a
     stretch) and return the run's Dataset.
 
-    At every output time the run keeps a frame (``run.fields(state)``);
-    every stretch's steps go to ``run.history``. ``diagnose(state, t, step,
-    dt, failed) -> str`` says in one sentence when, where and what went
-    wrong after the good ``state`` at ``t``: the step ``dt`` made it
-    non-physical (``failed``), or the CFL step collapsed to ``dt``; a non-physical step or a collapsed time step
-    raises :class:`~cases.errors.SolverFailed` carrying the result up to
-    the last good state. ``ckpt`` (:mod:`cases.checkpoint`) saves
+    At every output time the run keeps a frame (``run.output_frame(state)``);
+    every stretch's records go to ``run.history``; ``run.state`` and
+    ``run.t`` hold the last good state. ``dt_cfl`` is the stable step of
+    ``state`` (``inf`` where a method's step finds its own). A step that
+    raises :class:`StepFailed`, turns the state non-physical (NaN stable
+    step) or lets the stable step collapse below ``DT_FLOOR · t_end`` stops
+    the run: :class:`~cases.errors.SolverFailed` carries the result up to
+    the last good state, with the step's message or ``diagnose(state, t,
+    step, dt, failed) -> str``, one sentence on when, where and what (the
+    step ``dt`` made the state non-physical: ``failed``; or the stable step
+    collapsed to ``dt``). ``ckpt`` (:mod:`cases.checkpoint`) saves
     ``saved_state(state, t, dt_cfl)`` (a dict) between stretches; ``bar``
     shows the progress.
     """
+    diagnose = diagnose or _collapsed
     out_times = output_times(run.scene, t_end)
     sizer, floor = StretchSizer(advance.n_records), DT_FLOOR * t_end
+    run.state, run.t = state, t
     with ckpt.watching_signals():
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
                 while t < t_out * (1 - LANDING):
-                    if not np.isfinite(dt_cfl) or dt_cfl < floor:
+                    if not dt_cfl >= floor:  # (NaN too)
                         raise run.failure(diagnose(state, t, run.n_steps, dt_cfl, False), t,
                                           lambda: run.fields(state))
                     started = _time.perf_counter()
-                    s = advance(state, t, dt_cfl, t_out, sizer.n, floor)
+                    try:
+                        s = advance(state, t, dt_cfl, t_out, sizer.n, floor)
+                    except StepFailed as err:
+                        raise run.failure(str(err), t, lambda: run.fields(state)) from None
                     sizer.timed(_time.perf_counter() - started, s.steps)
                     if s.steps:
-                        run.history.record_steps(t, s.times, s.probes, s.forces)
+                        run.history.record_steps(run.history.t[-1], s.times, s.probes, s.forces)
                         run.n_steps += s.steps
                         bar.update(s.t - t)
                     state, t, dt_cfl = s.state, s.t, s.dt_cfl
-                    if not np.isfinite(dt_cfl):
+                    run.state, run.t = state, t
+                    if np.isnan(dt_cfl):
                         # the last good state is kept for the partial result
                         raise run.failure(diagnose(state, t, run.n_steps + 1, s.dt_tried, True), t,
                                           lambda: run.fields(state))
                     bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
                     ckpt.step_done(run, t, lambda: saved_state(state, t, dt_cfl), lambda: run.fields(state))
-                run.add_frame(run.fields(state), t)
+                run.add_frame(run.output_frame(state), t)
         finally:
             bar.close()
     return run.dataset()
 
 
+def _collapsed(state, t, step, dt, failed) -> str:
+    """The failure of a method that diagnoses its own steps: only a
+    collapsed stable step reaches here."""
+    return f"the stable time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {step})."
+
+
 class single_steps:
     """The stretch of a method that steps on the host: one step of
-    ``step(state, t, dt) -> (state, dt_next, probes, side_forces)`` (NaN
-    ``dt_next``: the step turned the state non-physical and is not
-    taken), ``dt = min(dt_cfl, t_out − t)``, landing on ``t_out``."""
+    ``step(state, t, dt_cfl, t_out) -> (state, dt, dt_next, record)``,
+    which takes ``dt`` (at most ``t_out − t``; it ends at :func:`landed`)
+    and returns the stable step ``dt_next`` (NaN: the step turned the state
+    non-physical and is not taken) and the ``(probes, side_forces)`` at its
+    end, or None where it keeps no record."""
 
     n_records = 1
 
@@ -127,10 +162,12 @@ class single_steps:
         self.step = step
 
     def __call__(self, state, t, dt_cfl, t_out, n_max, dt_floor) -> Stretch:
-        dt = min(dt_cfl, t_out - t)
-        new, dt_next, probes, forces = self.step(state, t, dt)
-        if not np.isfinite(dt_next):
+        new, dt, dt_next, record = self.step(state, t, dt_cfl, t_out)
+        if np.isnan(dt_next):
             return Stretch(state, t, dt_next, dt, np.zeros(0), np.zeros((0, 0)), np.zeros((0, 0)))
-        t_new = t_out if t + dt >= t_out * (1 - LANDING) else t + dt
+        t_new = landed(t, dt, t_out)
+        if record is None:
+            return Stretch(new, t_new, dt_next, dt, np.zeros(0), np.zeros((0, 0)), np.zeros((0, 0)), steps=1)
+        probes, forces = record
         return Stretch(new, t_new, dt_next, dt, np.array([t_new]), np.asarray(probes, float)[None],
                        np.asarray(forces, float)[None])

@@ -1,8 +1,9 @@
 """Run a scene with any registered method.
 
 Methods are found through the ``partmesh.methods`` entry-point group (as
-xarray finds its backends): ``fv = "gridref.euler:solve"`` and so on. No
-solver is imported until it is asked for, and another package can add a
+xarray finds its backends): ``fv = "gridref.euler.method:METHOD"`` and so
+on, each a :class:`~cases.method.Method`. No solver is imported until a
+run's settings and memory are checked, and another package can add a
 method by declaring an entry point of its own.
 """
 
@@ -11,18 +12,18 @@ from __future__ import annotations
 from importlib.metadata import entry_points
 
 from cases.errors import InputError, Unsupported
+from cases.method import Method
 from cases.tiling import tiled
-
-GROUP = "partmesh.methods"
+from compare.schema import METHOD_GROUP
 
 
 def methods() -> dict:
     """Registered methods: name -> entry point."""
-    return {ep.name: ep for ep in entry_points(group=GROUP)}
+    return {ep.name: ep for ep in entry_points(group=METHOD_GROUP)}
 
 
-def solver(method: str):
-    """The ``solve(scene, **settings)`` function of ``method``."""
+def registered(method: str) -> Method:
+    """The :class:`~cases.method.Method` registered as ``method``."""
     available = methods()
     if method not in available:
         raise InputError(f"unknown method {method!r}; available methods: {', '.join(sorted(available)) or 'none'}.")
@@ -47,16 +48,16 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
         from cases.registry import get
 
         scene = get(scene)
-    medium = getattr(solver(method), "medium", "gas")
-    if scene.medium != medium:
-        raise Unsupported(f"method {method} runs {medium} scenes, and {scene.name} is a {scene.medium} scene.")
+    chosen = registered(method)
+    if scene.medium != chosen.medium:
+        raise Unsupported(f"method {method} runs {chosen.medium} scenes, and {scene.name} is a {scene.medium} scene.")
     if ensembles != 1:
         from cases.ensemble import run_ensemble
 
         settings.pop("progress", None)  # (workers show none)
         ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)
     else:
-        ds = solver(method)(scene, **settings)
+        ds = chosen.solve(scene, chosen.checked(scene, settings))
     if getattr(scene, "tiles", 1) > 1:
         ds = tiled(ds, scene.tiles)
     if scene.measure is not None:

@@ -23,7 +23,7 @@ from __future__ import annotations
 import itertools
 import re
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 from cases.cluster import dask_client, local_workers, threads_per_run
@@ -82,14 +82,10 @@ def plan(case: str, methods, dx=(None,), values: dict | None = None) -> list[Swe
 
 
 def solver_settings(method: str) -> set:
-    """The settings ``method``'s solve function takes (its keyword
-    parameters)."""
-    import inspect
+    """The names of ``method``'s settings."""
+    from cases.run import registered
 
-    from cases.run import solver
-
-    parameters = inspect.signature(solver(method)).parameters.values()
-    return {p.name for p in parameters if p.kind is p.POSITIONAL_OR_KEYWORD and p.name != "scene"}
+    return {f.name for f in fields(registered(method).settings)}
 
 
 def finished(path: str | Path) -> bool:

@@ -71,7 +71,7 @@ def integer(name: str, value, lo: int, hi: int | None = None) -> int:
     """``value`` as an int ≥ lo (and ≤ hi)."""
     try:
         as_int = int(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"{name} must be an integer, got {value!r}.") from None
     if as_int != value and not (isinstance(value, str) and str(as_int) == value.strip()):
         raise InputError(f"{name} must be an integer, got {value!r}.")

@@ -29,7 +29,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-METHODS = ("fv", "sph", "dsmc", "swe", "wcsph", "hybrid", "exact")
+#: the entry-point group methods register in (:mod:`cases.run`), this package's and any other's
+METHOD_GROUP = "partmesh.methods"
+#: what a result's ``method`` may name besides a registered method
+EXACT = "exact"
+
+def methods() -> tuple[str, ...]:
+    """The methods a result may name: every method registered in
+    :data:`METHOD_GROUP` (another package's too), and ``exact``."""
+    return (*sorted(ep.name for ep in metadata.entry_points(group=METHOD_GROUP)), EXACT)
+
 
 #: name -> (units, long_name) for every variable the schema knows.
 VARIABLES: dict[str, tuple[str, str]] = {
@@ -178,8 +187,8 @@ def validate(ds: xr.Dataset) -> xr.Dataset:
     missing = [a for a in REQUIRED_ATTRS if a not in ds.attrs]
     if missing:
         raise SchemaError(f"result is missing the required attribute(s) {', '.join(missing)}.")
-    if ds.attrs["method"] not in METHODS:
-        raise SchemaError(f"attribute 'method' is {ds.attrs['method']!r}; allowed: {', '.join(METHODS)}.")
+    if ds.attrs["method"] not in methods():
+        raise SchemaError(f"attribute 'method' is {ds.attrs['method']!r}; allowed: {', '.join(methods())}.")
     if ds.attrs["Conventions"] != "CF-1.10":
         raise SchemaError(f"attribute 'Conventions' must be 'CF-1.10', got {ds.attrs['Conventions']!r}.")
     try:

@@ -53,22 +53,17 @@ import jax.numpy as jnp
 import numpy as np
 
 from cases.checkpoint import checkpoint_for
-from cases.checks import cfl as check_cfl
-from cases.checks import choice, in_range, integer, positive
-from cases.errors import InputError
 from cases.history import History, RunRecord
-from cases.memory import check_fits, elements_in, grid_cell_bytes
+from cases.march import march, single_steps
 from compare.regrid import to_output_grid
-from gridref.euler.reconstruct import LIMITERS
-from gridref.euler.riemann import RIEMANN_SOLVERS
 from gridref.euler.solve import initial_state, inflow_states, scheme_for
 from gridref.euler.state import primitive
 from gridref.euler.step import Stepper
 from gridref.grid import bilinear_stencil, cell_centres, solver_grid
-from cases.march import march, single_steps
-from hybrid.cells import SENSORS, cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
+from gridref.jax_setup import configure_jax
+from hybrid.cells import cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
 from hybrid.exchange import cloud, deposited, interpolated, matched
-from particle import kernels
+from hybrid.method import HybridSettings
 from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
 from particle.sph.solve import Evaluation, GasSPH, Particles
 
@@ -79,8 +74,6 @@ RELEASE = 0.25
 #: (ρ Δx^d): a particle of dense gas that has expanded into rarefied gas
 COARSEST = 4.0
 
-SETTINGS = ("dx", "beta", "threshold", "sensor", "buffer", "cfl", "cfl_sph", "kernel", "eta", "alpha_max", "alpha_min",
-            "alpha_u", "limiter", "riemann", "t_end", "progress", "checkpoint", "checkpoint_every", "resume")
 #: what a checkpoint keeps of the coupling: the counts of sub-steps and particles over the run
 COUNTS = ("substeps", "particle_steps", "most_particles", "fluid_steps", "most_fluid")
 
@@ -301,64 +294,30 @@ class Coupling:
         return P, xb, mb
 
 
-def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, cfl=0.8, cfl_sph=0.25, kernel="wendland_c6",
-          eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0, limiter="mc", riemann="hllc", t_end=None,
-          progress=True, checkpoint=None, checkpoint_every=600.0, resume=False, **unknown):
-    """Run ``scene`` with the hybrid finite-volume – SPH method.
-
-    ``dx`` is the particle spacing [m] (default: the scene's), ``beta`` the
-    ratio of particle spacing to cell width (1/k for a whole k: the grid's
-    cells are ``dx / beta`` wide), ``threshold`` the relative jump of
-    density or pressure (``sensor="rho,p"``: shocks and contacts), of
-    pressure alone (``"p"``: contacts stay on the grid) or of pressure
-    across compressing faces (``"shock"``: only shocks hold particles; the
-    flow behind a blast goes back to the grid) between neighbouring cells
-    above which a cell gets particles, ``buffer`` the cells added around
-    those, ``cfl`` the grid's
-    Courant number, ``cfl_sph`` the particles' (Δt = C min h/v_sig); the
-    SPH settings are those of method ``sph`` and ``limiter``/``riemann``
-    those of ``fv``. Raises :class:`~cases.errors.SolverFailed` with the
-    partial result if the state turns non-physical or the run is interrupted.
-    ``checkpoint``/``checkpoint_every``/``resume`` as in the other methods
-    (:mod:`cases.checkpoint`): a resumed run searches its particles'
-    neighbours anew, so it ends within ~1e-7 of an uninterrupted one.
+def solve(scene, settings: HybridSettings):
+    """Run ``scene`` with the hybrid finite-volume – SPH method and checked
+    ``settings`` (:class:`~hybrid.method.HybridSettings`). Raises
+    :class:`~cases.errors.SolverFailed` with the partial result if the
+    state turns non-physical or the run is interrupted. Checkpoints as in
+    the other methods (:mod:`cases.checkpoint`): a resumed run searches its
+    particles' neighbours anew, so it ends within ~1e-7 of an
+    uninterrupted one.
     """
-    if unknown:
-        raise InputError(f"method hybrid has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
-    if scene.obstacles:
-        raise InputError(f"method hybrid runs scenes without obstacles; {scene.name} has {len(scene.obstacles)}.")
-    settings = {
-        "method": "hybrid", "dx": positive("dx", scene.dx if dx is None else dx),
-        "beta": in_range("beta", beta, 0.0, 1.0, lo_open=True), "threshold": positive("threshold", threshold),
-        "sensor": choice("sensor", sensor, SENSORS),
-        "buffer": integer("buffer", buffer, 0), "cfl": check_cfl(cfl),
-        "cfl_sph": in_range("cfl_sph", cfl_sph, 0.0, 1.0, lo_open=True),
-        "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)), "eta": in_range("eta", eta, 1.0, 8.0),
-        "alpha_max": in_range("alpha_max", alpha_max, 0.0, 10.0), "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0),
-        "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0), "limiter": choice("limiter", limiter, tuple(LIMITERS)),
-        "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    per_cell = int(round(1.0 / settings["beta"]))
-    if abs(per_cell * settings["beta"] - 1.0) > 1e-9 or per_cell > 16:
-        raise InputError(f"beta must be 1/k for a whole k from 1 to 16 (particles per cell width); got {beta}.")
-    dx, t_end = settings["dx"], settings["t_end"]
-    # (the checked values from here on: a setting given as text is a number or a name only in settings)
+    configure_jax()
+    dx, t_end, per_cell = settings.dx, settings.t_end, settings.per_cell
     kernel, eta, alpha_max, alpha_min, alpha_u, limiter, riemann, sensor = (
-        settings[k] for k in ("kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "limiter", "riemann", "sensor"))
-    # (the grid's share; the particles live only in the cells the sensor flags)
-    check_fits("hybrid", elements_in(scene.domain, dx / settings["beta"]), grid_cell_bytes(scene.dim + 2, scene),
-               "grid cells")
+        settings.kernel, settings.eta, settings.alpha_max, settings.alpha_min, settings.alpha_u, settings.limiter,
+        settings.riemann, settings.sensor)
     grid = solver_grid(scene.domain, dx * per_cell)
     U = initial_state(scene, grid)
-    stepper = Stepper(scheme_for(scene, grid, settings["cfl"], limiter, riemann),
+    stepper = Stepper(scheme_for(scene, grid, settings.cfl, limiter, riemann),
                       inflow=lambda t: inflow_states(scene, t))
     lo, hi = np.array([a for a, _ in scene.domain]), np.array([b for _, b in scene.domain])
     region = [(a, b) for a, b in zip(lo, hi)]
     open_ = tuple(side for side in scene.sides if scene.boundaries[side] == "outflow")
     sph = GasSPH(scene, kernel, eta, region, open_)
-    coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings["threshold"], sensor, settings["buffer"],
-                        Switches(alpha_max, alpha_min, alpha_u), settings["cfl_sph"])
+    coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings.threshold, sensor, settings.buffer,
+                        Switches(alpha_max, alpha_min, alpha_u), settings.cfl_sph)
     t0 = _time.perf_counter()
     jax.block_until_ready(stepper.one_step(stepper.start(U), 0.0, 0.0))
     # (the first evaluation compiles, or loads, the SPH kernels)
@@ -368,11 +327,11 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
     compile_seconds = _time.perf_counter() - t0
     probe_points = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim]
     probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
-    run = _Run(scene, coupling, settings, compile_seconds,
+    run = _Run(scene, coupling, settings.record(), compile_seconds,
                History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim))
     run.totals0 = totals_of(U, coupling.volume)
     t, dt_cfl = 0.0, float(stepper.initial_dt(U))
-    ckpt = checkpoint_for(scene, "hybrid", settings, checkpoint, checkpoint_every, resume)
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
         S, t, dt_cfl = saved["S"], saved["t"], saved["dt_cfl"]
@@ -381,15 +340,16 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
         for name, value in saved["counts"].items():
             setattr(coupling, name, value)
         sph.seconds, sph.force_interactions = saved["sph_seconds"], saved["force_interactions"]
-    bar = run.progress_bar(t, t_end, progress)
+    bar = run.progress_bar(t, t_end, settings.progress)
 
-    def step(S, t, dt):
+    def step(S, t, dt_cfl, t_out):
+        dt = min(dt_cfl, t_out - t)
         S_new, dt_cfl, forces = coupling.step(S, t, dt)
         if not np.isfinite(dt_cfl):
-            return S, dt_cfl, None, forces
+            return S, dt, dt_cfl, None
         probes = interpolated(coupling.primitive(S_new.U)[-1:], probe_stencil)[0][: len(scene.probes)]
         run.totals = totals_of(S_new.U, coupling.volume)
-        return S_new, dt_cfl, probes, forces
+        return S_new, dt, dt_cfl, (probes, forces)
 
     def diagnose(S, t, step, dt, failed):
         return coupling.error or f"hybrid's grid step turned the state non-physical at t = {t:.6g} s (step {step})."
@@ -399,7 +359,7 @@ def solve(scene, dx=None, beta=0.25, threshold=0.05, sensor="rho,p", buffer=2, c
                 "totals": run.totals, "counts": {name: getattr(coupling, name) for name in COUNTS},
                 "sph_seconds": dict(sph.seconds), "force_interactions": sph.force_interactions}
 
-    return march(run, S, t, dt_cfl, t_end, single_steps(step), diagnose, ckpt, bar, saved_state)
+    return march(run, S, t, dt_cfl, t_end, single_steps(step), ckpt, bar, saved_state, diagnose)
 
 
 def totals_of(U, volume: float) -> np.ndarray:

@@ -10,7 +10,7 @@ import pytest
 import cases
 from compare.metrics import field_error
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.solve import landing_step, solve
+from particle.dsmc.solve import landing_step
 
 
 def test_specular_reflection_folds_the_path_back_and_counts_the_momentum():
@@ -41,7 +41,7 @@ def test_periodic_wrap_and_open_sides_in_2d():
 def test_closed_box_keeps_every_particle_and_the_energy_to_round_off():
     # Sedov in its reflecting box: specular walls and the redraw conserve energy exactly
     scene = cases.get("sedov", n_out=32, t_end=0.08)
-    ds = solve(scene, dx=2.0 / 32, ppc=20, progress=False)
+    ds = cases.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
     volume = 4.0 / 32**2
     mass = (ds["rho"] * volume).sum(dim=("x", "y"))
     assert float(np.abs(mass / mass[0] - 1).max()) < 1e-14
@@ -56,7 +56,7 @@ def test_sod_density_near_exact_at_a_coarse_resolution():
     # 20 steps: measured L1(rho) 0.052-0.058 over three seeds (scatter and the
     # dissipation of the cell size); a collisionless gas (no redraw) is far off
     scene = cases.get("sod")
-    ds = solve(scene, dx=1 / 100, ppc=100, window=20, progress=False)
+    ds = cases.run(scene, "dsmc", dx=1 / 100, ppc=100, window=20, progress=False)
     exact = scene.exact(ds.time.values)
     assert field_error(ds["rho"].isel(time=-1), exact["rho"].isel(time=-1)) < 0.07
 
@@ -69,7 +69,7 @@ def test_same_seed_same_run_at_any_thread_count_other_seed_other_run(collisions)
     runs = []
     for seed, threads in ((3, numba.config.NUMBA_NUM_THREADS), (3, 1), (4, numba.config.NUMBA_NUM_THREADS)):
         numba.set_num_threads(threads)
-        runs.append(solve(scene, dx=5e-3, ppc=10, seed=seed, t_end=5e-5, progress=False, **collisions))
+        runs.append(cases.run(scene, "dsmc", dx=5e-3, ppc=10, seed=seed, t_end=5e-5, progress=False, **collisions))
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     a, b, c = runs
     for field in ("rho", "u", "v", "p"):
@@ -149,7 +149,7 @@ def test_closed_box_with_an_obstacle_keeps_mass_and_energy_and_no_particle_insid
 
     # the Sedov blast hits a disc: specular polygon walls conserve energy exactly
     scene = dataclasses.replace(cases.get("sedov", n_out=32, t_end=0.15), obstacles=(circle(0.0, 0.45, 0.2),))
-    ds = solve(scene, dx=2.0 / 32, ppc=20, progress=False)
+    ds = cases.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
     assert ds.attrs["mass_drift"] == 0.0
     assert ds.attrs["energy_drift"] < 1e-12
     assert ds.attrs["particles_in_solids"] == 0
@@ -189,7 +189,7 @@ def test_outflow_far_field_state_carries_each_characteristic_from_its_side(norma
 def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     # a uniform gas at rest between two outflow sides: neither the boundary state nor the mass may drift
     scene = cases.get("sod", right_rho=1.0, right_p=1.0, nx_out=50)
-    ds = solve(scene, dx=1 / 50, ppc=200, window=10, progress=False)
+    ds = cases.run(scene, "dsmc", dx=1 / 50, ppc=200, window=10, progress=False)
     rho, p, u = (ds[q].isel(time=-1).values for q in ("rho", "p", "u"))
     # 200 particles per cell, 10 correlated samples: ~ 5 % scatter per cell (a reservoir copying the last
     # sample drifted to 0.4 and 1.5 next to the sides)
@@ -198,7 +198,7 @@ def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     # the mean over 8 seeds at 400 cells x 30 particles: +0.3 +- 0.15 %; a reservoir taking its entropy from
     # the noisy layer inside lost 1.6 +- 0.4 %
     scene = cases.get("sod", right_rho=1.0, right_p=1.0, nx_out=400)
-    mass = [solve(scene, dx=1 / 400, ppc=30, seed=s, progress=False)["rho"].isel(time=-1).mean() for s in range(8)]
+    mass = [cases.run(scene, "dsmc", dx=1 / 400, ppc=30, seed=s, progress=False)["rho"].isel(time=-1).mean() for s in range(8)]
     assert abs(np.mean(mass) - 1.0) < 0.008
 
 

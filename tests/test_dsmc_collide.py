@@ -13,7 +13,6 @@ from test_dsmc_equilibrate import _cells, _moments
 
 import cases
 from cases.errors import InputError
-from particle.dsmc import solve
 from particle.dsmc.collide import collide
 
 
@@ -118,7 +117,7 @@ def test_rotation_relaxes_at_the_larsen_borgnakke_rate_to_equipartition(omega):
 def test_long_mean_free_path_gives_free_molecular_flow():
     # collisionless: each side's Maxwellian streams across, ρ(x, t) = Σ ρ_s ½ erfc(±(x − x0)/(√(2θ_s) t))
     scene = cases.get("sod", nx_out=100)
-    ds = solve(scene, dx=1 / 100, ppc=400, seed=2, collisions="larsen-borgnakke", mean_free_path=1e3,
+    ds = cases.run(scene, "dsmc", dx=1 / 100, ppc=400, seed=2, collisions="larsen-borgnakke", mean_free_path=1e3,
                progress=False)
     x, t = ds.x.values, ds.time.values[-1]
     free = (0.5 * special.erfc((x - 0.5) / (math.sqrt(2.0) * t))
@@ -137,7 +136,7 @@ def test_short_mean_free_path_gives_the_euler_shock():
     # solution. The second window keeps clear of the contact, which collisions smear over ~0.02: measured over
     # seeds 0-5 it reads 0.418-0.433 (mean 0.427), where (0.60, 0.65) read 0.405-0.417.
     scene = cases.get("sod", nx_out=200)
-    ds = solve(scene, dx=1 / 200, ppc=100, seed=2, collisions="larsen-borgnakke", mean_free_path=1.25e-3,
+    ds = cases.run(scene, "dsmc", dx=1 / 200, ppc=100, seed=2, collisions="larsen-borgnakke", mean_free_path=1.25e-3,
                progress=False)
     x, rho = ds.x.values, ds["rho"].isel(time=-1).values
     assert rho[(x > 0.73) & (x < 0.83)].mean() == pytest.approx(0.2656, rel=0.02)
@@ -147,12 +146,12 @@ def test_short_mean_free_path_gives_the_euler_shock():
 def test_collision_settings_are_checked():
     scene = cases.get("sod", nx_out=50)
     with pytest.raises(InputError, match="needs mean_free_path"):
-        solve(scene, dx=1 / 50, collisions="larsen-borgnakke", progress=False)
+        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", progress=False)
     with pytest.raises(InputError, match="applies only to collisions='larsen-borgnakke'"):
-        solve(scene, dx=1 / 50, mean_free_path=1e-3, progress=False)
+        cases.run(scene, "dsmc", dx=1 / 50, mean_free_path=1e-3, progress=False)
     with pytest.raises(InputError, match="continuum limit"):
-        solve(scene, dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-6, progress=False)
+        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-6, progress=False)
     with pytest.raises(InputError, match="omega must"):
-        solve(scene, dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-2, omega=0.3, progress=False)
+        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-2, omega=0.3, progress=False)
     with pytest.raises(InputError, match="collisions must be one of"):
-        solve(scene, dx=1 / 50, collisions="bgk", progress=False)
+        cases.run(scene, "dsmc", dx=1 / 50, collisions="bgk", progress=False)

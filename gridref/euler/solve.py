@@ -7,20 +7,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from cases.checks import cfl as check_cfl
-from cases.checks import check_initial_state, check_obstacles, choice, positive
+from cases.checks import check_initial_state, check_obstacles
 from cases.checkpoint import checkpoint_for
 from cases.errors import InputError
 from cases.history import History, RunRecord
-from cases.memory import check_fits, elements_in, grid_cell_bytes
 from cases.scene import Inflow
 from compare.regrid import to_output_grid
 from gridref.euler.immersed import immersed_boundary
-from gridref.euler.reconstruct import LIMITERS
-from gridref.euler.riemann import RIEMANN_SOLVERS
+from gridref.euler.method import FVSettings
 from gridref.euler.state import conservative, primitive
 from gridref.euler.step import FLOOR, Scheme, Stepper
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
+from gridref.jax_setup import configure_jax
 from cases.march import march
 
 
@@ -78,32 +76,22 @@ def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
     return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
 
 
-def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, progress=True, checkpoint=None,
-          checkpoint_every=600.0, resume=False, **unknown):
-    """Run ``scene`` with the unsplit MUSCL–Hancock finite-volume scheme.
+def solve(scene, settings: FVSettings):
+    """Run ``scene`` with the unsplit MUSCL–Hancock finite-volume scheme
+    and checked ``settings`` (:class:`~gridref.euler.method.FVSettings`).
 
-    ``dx`` is the cell size [m] (default: the scene's), ``cfl`` the Courant
-    number in (0, 1], ``limiter`` one of ``LIMITERS``, ``riemann`` one of
-    ``RIEMANN_SOLVERS``. Returns a schema Dataset; raises
-    :class:`~cases.errors.SolverFailed` (with the partial result) if the state
-    turns non-physical or the run is interrupted. ``checkpoint`` is a file
-    the state is saved to every ``checkpoint_every`` seconds and on SIGINT
-    or SIGTERM; ``resume`` continues from it (:mod:`cases.checkpoint`).
+    Returns a schema Dataset; raises :class:`~cases.errors.SolverFailed`
+    (with the partial result) if the state turns non-physical or the run is
+    interrupted. The state is saved to ``settings.checkpoint`` every
+    ``checkpoint_every`` seconds and on SIGINT or SIGTERM; ``resume``
+    continues from it (:mod:`cases.checkpoint`).
     """
-    if unknown:
-        raise InputError(f"method fv has no setting {sorted(unknown)[0]!r}; settings: dx, cfl, limiter, riemann, t_end, "
-                         f"checkpoint, checkpoint_every, resume.")
-    settings = {
-        "method": "fv", "dx": positive("dx", scene.dx if dx is None else dx), "cfl": check_cfl(cfl),
-        "limiter": choice("limiter", limiter, tuple(LIMITERS)), "riemann": choice("riemann", riemann, tuple(RIEMANN_SOLVERS)),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    dx, t_end, gamma, cfl = settings["dx"], settings["t_end"], scene.gamma, settings["cfl"]
-    check_fits("fv", elements_in(scene.domain, dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
+    configure_jax()
+    dx, t_end, gamma, cfl = settings.dx, settings.t_end, scene.gamma, settings.cfl
     grid = solver_grid(scene.domain, dx)
     ib = _immersed(scene, grid, dx)
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
-    scheme = scheme_for(scene, grid, cfl, limiter, riemann)
+    scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
 
     def probe_pressure(U):
@@ -112,15 +100,15 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
 
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure, n_probes=len(probe_w),
                       inflow=lambda t: inflow_states(scene, t))
-    run = _Run(scene, grid, ib, settings, compile_seconds=stepper.compile(U),
+    run = _Run(scene, grid, ib, settings.record(), compile_seconds=stepper.compile(U),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
     t, state = 0.0, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))
-    ckpt = checkpoint_for(scene, "fv", settings, checkpoint, checkpoint_every, resume)
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
         state, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["state"]), saved["t"], saved["dt_cfl"]
-    bar = run.progress_bar(t, t_end, progress)
+    bar = run.progress_bar(t, t_end, settings.progress)
 
     def diagnose(state, t, step, dt, failed):
         U = state[0]
@@ -132,7 +120,7 @@ def solve(scene, dx=None, cfl=0.8, limiter="mc", riemann="hllc", t_end=None, pro
     def saved_state(state, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, state, t, dt_cfl, t_end, stepper.stretch, diagnose, ckpt, bar, saved_state)
+    return march(run, state, t, dt_cfl, t_end, stepper.stretch, ckpt, bar, saved_state, diagnose)
 
 
 def _immersed(scene, grid, dx):

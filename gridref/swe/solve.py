@@ -10,14 +10,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from cases.checkpoint import checkpoint_for
-from cases.checks import choice, in_range, positive
 from cases.errors import InputError
 from cases.history import History, RunRecord
-from cases.memory import check_fits, elements_in, grid_cell_bytes
 from compare.regrid import to_output_grid
-from gridref.euler.reconstruct import LIMITERS
 from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from cases.march import march
+from gridref.jax_setup import configure_jax
+from gridref.swe.method import SWESettings
 from gridref.device_loop import device_loop
 from gridref.staging import staged
 from gridref.swe.step import (
@@ -33,7 +32,6 @@ from gridref.swe.step import (
     velocities,
 )
 
-SETTINGS = ("dx", "cfl", "limiter", "precision", "t_end", "checkpoint", "checkpoint_every", "resume")
 
 
 class Stepper:
@@ -80,32 +78,20 @@ class Stepper:
         return _time.perf_counter() - t0
 
 
-def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=None, progress=True, checkpoint=None,
-          checkpoint_every=600.0, resume=False, **unknown):
-    """Run the water ``scene`` with the shallow-water model: MUSCL–Hancock
-    (``limiter`` on depth, surface and velocity), hydrostatic reconstruction
-    at the faces, HLLC fluxes, at Courant number ``cfl`` (the depth stays
-    ≥ 0 up to 0.25, :mod:`gridref.swe.step`), in ``precision`` ("float64",
-    or "float32": about three times the speed on a CPU, for long runs
-    whose waves are much larger than 1e-6 of the depth).
+def solve(scene, settings: SWESettings):
+    """Run the water ``scene`` with the shallow-water model and checked
+    ``settings`` (:class:`~gridref.swe.method.SWESettings`): MUSCL–Hancock
+    (the limiter on depth, surface and velocity), hydrostatic
+    reconstruction at the faces, HLLC fluxes.
 
-    ``dx`` is the cell size [m] (default: the scene's). Returns a schema
-    Dataset with ``eta`` (NaN over dry cells), the depth-averaged velocity
-    and ``h``; raises :class:`~cases.errors.SolverFailed` with the partial
-    result if a depth turns negative or the run is interrupted.
-    ``checkpoint``/``checkpoint_every``/``resume`` as in the other methods
-    (:mod:`cases.checkpoint`).
+    Returns a schema Dataset with ``eta`` (NaN over dry cells), the
+    depth-averaged velocity and ``h``; raises
+    :class:`~cases.errors.SolverFailed` with the partial result if a depth
+    turns negative or the run is interrupted. Checkpoints as in the other
+    methods (:mod:`cases.checkpoint`).
     """
-    if unknown:
-        raise InputError(f"method swe has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
-    settings = {
-        "method": "swe", "dx": positive("dx", scene.dx if dx is None else dx),
-        "cfl": in_range("cfl", cfl, 0.0, 0.5, lo_open=True), "limiter": choice("limiter", limiter, tuple(LIMITERS)),
-        "precision": choice("precision", precision, tuple(PRECISIONS)),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    dx, t_end = settings["dx"], settings["t_end"]
-    check_fits("swe", elements_in(scene.domain, dx), grid_cell_bytes(scene.dim + 1, scene), "cells")
+    configure_jax()
+    dx, t_end = settings.dx, settings.t_end
     grid = solver_grid(scene.domain, dx)
     X, Y = mesh(grid)
     z = np.broadcast_to(np.asarray(scene.bed(X, Y), float), X.shape)
@@ -114,23 +100,23 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=Non
     for name, a in (("bed", z), ("initial surface", eta0), ("initial velocity", u0)):
         if not np.all(np.isfinite(a)):
             raise InputError(f"scene {scene.name}: the {name} must be finite everywhere.")
-    dtype = PRECISIONS[settings["precision"]]
+    dtype = PRECISIONS[settings.precision]
     U = tuple(jnp.asarray(a, dtype) for a in (h0, h0 * u0, h0 * v0)[: 1 + scene.dim])
     scheme = Scheme(g=scene.g, dx=tuple(grid.step), kinds=tuple(scene.boundaries[s] for s in scene.sides),
-                    radial=scene.geometry == "radial", limiter=settings["limiter"], cfl=settings["cfl"])
+                    radial=scene.geometry == "radial", limiter=settings.limiter, cfl=settings.cfl)
     radius = radii(cell_centres(grid)[0], grid.step[0], dtype) if scheme.radial else None
     gauges = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
     gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
     stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight),
                       dtype)
-    run = _Run(scene, grid, z, settings, stepper.compile(U),
+    run = _Run(scene, grid, z, settings.record(), stepper.compile(U),
                History(np.sum((h0 + z).ravel()[gauge_index] * gauge_weight, axis=-1), 2 * scene.dim))
     t, dt_cfl = 0.0, float(stepper.initial_dt(U))
-    ckpt = checkpoint_for(scene, "swe", settings, checkpoint, checkpoint_every, resume)
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
         U, t, dt_cfl = tuple(jnp.asarray(a, dtype) for a in saved["U"]), saved["t"], saved["dt_cfl"]
-    bar = run.progress_bar(t, t_end, progress)
+    bar = run.progress_bar(t, t_end, settings.progress)
 
     def diagnose(U, t, step, dt, failed):
         if failed:  # the state the failed step of dt made
@@ -140,7 +126,7 @@ def solve(scene, dx=None, cfl=0.25, limiter="mc", precision="float64", t_end=Non
     def saved_state(U, t, dt_cfl):
         return {"U": [np.asarray(a) for a in U], "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, U, t, dt_cfl, t_end, stepper.stretch, diagnose, ckpt, bar, saved_state)
+    return march(run, U, t, dt_cfl, t_end, stepper.stretch, ckpt, bar, saved_state, diagnose)
 
 
 class _Run(RunRecord):

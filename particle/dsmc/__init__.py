@@ -9,10 +9,7 @@ Larsen–Borgnakke collisions, the non-equilibrium option),
 wrap, open sides), :mod:`~particle.dsmc.walls` (specular reflection from
 the obstacles' convex polygons), :mod:`~particle.dsmc.gas` (equilibrium
 particles), :mod:`~particle.dsmc.sample` (cell moments),
-:mod:`~particle.dsmc.cells` (the cell sort), :mod:`~particle.dsmc.solve`
-(the run, method ``dsmc``).
+:mod:`~particle.dsmc.cells` (the cell sort), :mod:`~particle.dsmc.method`
+(the settings and registry entry of method ``dsmc``),
+:mod:`~particle.dsmc.solve` (the run).
 """
-
-from particle.dsmc.solve import solve
-
-__all__ = ["solve"]

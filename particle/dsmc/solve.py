@@ -32,28 +32,23 @@ import time as _time
 import numba
 import numpy as np
 
-from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
-from cases.checks import choice, in_range, integer, positive
-from cases.errors import InputError, Unsupported
+from cases.checkpoint import checkpoint_for
+from cases.errors import InputError
 from cases.history import History, RunRecord
-from cases.march import output_times
-from cases.memory import check_fits, elements_in
+from cases.march import landed
 from cases.scene import Inflow
 from cases.shapes import square
 from particle.dsmc.cells import cell_index, sort_into_cells
 from particle.dsmc.collide import collide
 from particle.dsmc.equilibrate import equilibrate
 from particle.dsmc.gas import internal_degrees, particles_in_cells
+from particle.dsmc.method import DSMCSettings
 from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
 from particle.dsmc.sample import CellSums, moment_state
 from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
                                  push_out_of_obstacles)
-from particle.threads import threads_for
+from particle.march import march_particles
 
-SETTINGS = ("dx", "ppc", "cfl", "seed", "window", "collisions", "mean_free_path", "omega", "z_rot", "t_end", "progress",
-            *CHECKPOINT_SETTINGS)
-#: what happens in a cell after free flight: the equilibrium redraw, or true collisions
-COLLISIONS = ("equilibrium", "larsen-borgnakke")
 #: true collisions refuse a mean free path that makes a particle collide more often per step (the continuum limit,
 #: which the equilibrium redraw computes directly)
 MAX_COLLISIONS_PER_STEP = 100.0
@@ -65,87 +60,42 @@ OUTFLOW_MEMORY = 20.0
 _UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
 
-def solve(scene, dx=None, ppc=30, cfl=1.0, seed=0, window=1, collisions="equilibrium", mean_free_path=None,
-          omega=0.74, z_rot=5.0, t_end=None, progress=True, checkpoint=None, checkpoint_every=600.0, resume=False,
-          **unknown):
-    """Run ``scene`` with equilibrium DSMC on cells of size ``dx``.
-
-    ``ppc`` particles per cell in the lowest-density initial state set the
-    particle mass; ``seed`` makes the run reproducible (bit-identical on the
-    same machine, whatever the thread count); ``window`` is the number of
-    steps whose moments are averaged into each output frame. ``cfl`` = 1
-    lets a particle 3σ faster than its cell's flow cross one cell per step;
-    on ``sod`` at 400 cells it leaves the first-order (EFM) dissipation
-    lower than 0.5 does (L1 1.6e-2 against 1.8e-2, 30 particles per cell x
-    16 ensembles). ``collisions="larsen-borgnakke"`` needs
-    ``mean_free_path`` [m] at the lowest initial density; ``omega`` (VHS
-    viscosity exponent, [0.5, 1]) and ``z_rot`` (rotational collision
-    number, ≥ 1) apply to it. ``checkpoint`` is a file the state is saved
-    to every ``checkpoint_every`` seconds and on SIGINT or SIGTERM;
-    ``resume`` continues from it (:mod:`cases.checkpoint`).
-    """
-    if unknown:
-        raise InputError(f"method dsmc has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
-    if scene.obstacles and scene.dim != 2:
-        raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
-    settings = {
-        "method": "dsmc", "dx": positive("dx", scene.dx if dx is None else dx),
-        "ppc": integer("ppc", ppc, 1), "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True),
-        "seed": integer("seed", seed, 0), "window": integer("window", window, 1),
-        "collisions": choice("collisions", collisions, COLLISIONS),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    if settings["collisions"] == "larsen-borgnakke":
-        if mean_free_path is None:
-            raise InputError("collisions='larsen-borgnakke' needs mean_free_path, the mean free path [m] > 0 at the "
-                             "scene's lowest initial density.")
-        settings.update(mean_free_path=positive("mean_free_path", mean_free_path),
-                        omega=in_range("omega", omega, 0.5, 1.0), z_rot=in_range("z_rot", z_rot, 1.0, np.inf))
-    elif mean_free_path is not None:
-        raise InputError("mean_free_path applies only to collisions='larsen-borgnakke'; the equilibrium redraw "
-                         "has none (it is the limit of a vanishing mean free path).")
-    # (120 bytes a particle: position, three velocities, internal energy, cell and sort keys)
-    check_fits("dsmc", elements_in(scene.domain, settings["dx"]) * settings["ppc"], 120.0, "particles",
-               "dx or lower ppc")
+def solve(scene, settings: DSMCSettings):
+    """Run ``scene`` with equilibrium DSMC and checked ``settings``
+    (:class:`~particle.dsmc.method.DSMCSettings`). Raises
+    :class:`~cases.errors.SolverFailed` with the partial result if the run
+    is interrupted; checkpoints as in the other methods
+    (:mod:`cases.checkpoint`; a resumed run is bit for bit an uninterrupted
+    one)."""
     zeta = internal_degrees(scene.gamma)
     t0 = _time.perf_counter()
-    _compile_kernels(scene.dim, zeta, settings["collisions"])
+    _compile_kernels(scene.dim, zeta, settings.collisions)
     compile_seconds = _time.perf_counter() - t0
-    gas = _Gas(scene, settings["dx"], settings["ppc"], zeta, settings["seed"])
-    if settings["collisions"] == "larsen-borgnakke":
-        gas.collide_with(settings["mean_free_path"], settings["omega"], settings["z_rot"], settings["cfl"])
-    run = _Run(scene, gas, settings, compile_seconds)
-    t_end, cfl, window = settings["t_end"], settings["cfl"], settings["window"]
-    out_times = output_times(scene, t_end)
+    gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed)
+    if settings.collisions == "larsen-borgnakke":
+        gas.collide_with(settings.mean_free_path, settings.omega, settings.z_rot, settings.cfl)
+    run = _Run(scene, gas, settings.record(), compile_seconds)
+    cfl, window = settings.cfl, settings.window
     t = 0.0
-    frame = gas.output_sums()
-    ckpt = checkpoint_for(scene, "dsmc", settings, checkpoint, checkpoint_every, resume)
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
-        t, frame = saved["t"], saved["frame"]
+        t = saved["t"]
         gas.restore(saved["gas"])
-    bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals(), threads_for(gas.x.shape[0]):
-        try:
-            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
-                while t < t_out * (1 - 1e-14):
-                    dt = landing_step(cfl * gas.dx / gas.signal_speed(), t_out - t)
-                    run.record(t, t + dt, gas.step(t, dt, run.n_steps))
-                    t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                    run.n_steps += 1
-                    bar.update(dt)
-                    bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
-                    if t_out - t <= (window - 1) * dt * (1 + 1e-9) or t == t_out:
-                        gas.sample_into(frame)
-                    ckpt.step_done(run, t, lambda: {"t": t, "frame": frame, "gas": gas.saved()},
-                                   lambda: run.fields(gas.snapshot()))
-                if frame.samples == 0:  # an output time with no step before it (t = 0)
-                    gas.sample_into(frame)
-                run.add_frame(run.fields(frame), t)
-                frame = gas.output_sums()
-        finally:
-            bar.close()
-    return run.dataset()
+
+    def step(gas, t, dt_cfl, t_out):
+        dt_stable = cfl * gas.dx / gas.signal_speed()
+        dt = landing_step(dt_stable, t_out - t)
+        forces = gas.step(t, dt, run.n_steps)
+        t_new = landed(t, dt, t_out)
+        if t_out - t_new <= (window - 1) * dt * (1 + 1e-9) or t_new == t_out:
+            gas.sample_into(run.sums)
+        return gas, dt, dt_stable, (run.probes(), forces)
+
+    def saved_state(gas, t, dt_cfl):
+        return {"t": t, "gas": gas.saved()}
+
+    return march_particles(run, gas, t, step, ckpt, saved_state, settings, gas.x.shape[0])
 
 
 def landing_step(dt_max: float, left: float) -> float:
@@ -483,36 +433,53 @@ def _side_kind(boundary) -> int:
 
 
 class _Run(RunRecord):
-    """The record of one DSMC run."""
+    """The record of one DSMC run; ``sums`` gathers the moments of the
+    frame under way (the last ``window`` steps before its output time)."""
 
     def __init__(self, scene, gas, settings, compile_seconds):
-        probes0 = self._probes(scene, gas.state, gas)
-        super().__init__(scene, "dsmc", settings, compile_seconds, History(probes0, 2 * scene.dim))
-        self.gas = gas
+        self.scene, self.gas = scene, gas
+        super().__init__(scene, "dsmc", settings, compile_seconds, History(self.probes(), 2 * scene.dim))
+        self.sums = gas.output_sums()
         self.solid = None
         if scene.obstacles:
             X, Y = np.meshgrid(scene.output.x, scene.output.y)
             self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
-    @staticmethod
-    def _probes(scene, state, gas):
+    def probes(self) -> np.ndarray:
         """Pressure at every probe: that of the DSMC cell holding it."""
+        scene, gas = self.scene, self.gas
         if not scene.probes:
             return np.zeros(0)
         points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float)
         cell = cell_index(points, gas.lo, gas.spacing, gas.cells.shape_array)
-        return state[3].reshape(-1)[cell]
+        return gas.state[3].reshape(-1)[cell]
 
-    def record(self, t0, t1, side_forces):
-        self.history.record(t0, t1, self._probes(self.scene, self.gas.state, self.gas), side_forces)
+    def fields(self, gas) -> dict:
+        """The fields of the particles as they are (a partial result's last frame)."""
+        return self._fields_of(gas.snapshot())
 
-    def fields(self, frame: CellSums) -> dict:
+    def output_frame(self, gas) -> dict:
+        """The fields of the moments gathered since the last frame (those of
+        the particles as they are if no step came before: t = 0)."""
+        if self.sums.samples == 0:
+            gas.sample_into(self.sums)
+        fields, self.sums = self._fields_of(self.sums), gas.output_sums()
+        return fields
+
+    def _fields_of(self, frame: CellSums) -> dict:
         rho, u, v, p, e = frame.state(self.gas.mass, self.scene.gamma)
         values = {"rho": rho, "u": u, "v": v, "p": p, "e": e}
         if self.solid is not None:
             for q in values.values():
                 q[self.solid] = np.nan
         return {name: values[name] for name in self.scene.fields}
+
+    def saved(self) -> dict:
+        return {**super().saved(), "sums": self.sums}
+
+    def restore(self, saved: dict) -> None:
+        super().restore(saved)
+        self.sums = saved["sums"]
 
     def output(self):
         fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}

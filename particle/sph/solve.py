@@ -16,21 +16,22 @@ import numba
 import numpy as np
 import xarray as xr
 
-from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
-from cases.checks import check_obstacles, choice, in_range, positive
-from cases.errors import InputError, SolverFailed
+from cases.checkpoint import checkpoint_for
+from cases.checks import check_obstacles
+from cases.errors import SolverFailed
 from cases.history import History, RunRecord
-from cases.march import output_times
-from cases.memory import check_fits, elements_in, particle_bytes
+from cases.march import StepFailed, landed
 from cases.scene import Inflow
-from compare.io import particle_snapshot, write_particles
+from compare.io import particle_snapshot
 from particle import kernels
+from particle.march import march_particles
 from particle.neighbours import neighbour_lists, padded, sort_order
 from particle.sph.density import density_and_support
 from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
 from particle.sph.integrator import MIN_STEP_FRACTION, SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
 from particle.sph.lists import PerParticle, VerletLists
+from particle.sph.method import SPHSettings
 from particle.sph.particles import (
     check_supported,
     extended_domain,
@@ -42,13 +43,7 @@ from particle.sph.particles import (
 from particle.sph.sampling import shepard_at_points, shepard_on_grid
 from particle.sph.switches import conduction_switch, cullen_dehnen
 from particle.sph.walls import in_box, virtual_state, walls
-from particle.threads import threads_for
 
-SETTINGS = ("dx", "cfl", "kernel", "eta", "alpha_max", "alpha_min", "alpha_u", "masses", "t_end", "progress", "particles",
-            *CHECKPOINT_SETTINGS)
-#: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
-#: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take)
-MASSES = ("equal", "lattice")
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 #: the growth of a support the inflow buffer's depth and the outflow margin allow for
@@ -224,50 +219,29 @@ class GasSPH:
         return grids if self.dim == 2 else grids[:, 0]
 
 
-def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5, alpha_min=0.0, alpha_u=1.0,
-          masses="equal", t_end=None, progress=True, particles=None, checkpoint=None, checkpoint_every=600.0, resume=False,
-          **unknown):
-    """Run ``scene`` with compressible SPH.
+def solve(scene, settings: SPHSettings):
+    """Run ``scene`` with compressible SPH and checked ``settings``
+    (:class:`~particle.sph.method.SPHSettings`).
 
-    ``dx`` is the initial particle spacing in the densest gas (equal-mass
-    particles, ``masses="equal"``) or everywhere (``masses="lattice"``:
-    the square lattice, masses ρ dx^d), ``eta`` the support radius in units of the local spacing
-    (H = η (m/ρ)^(1/d); η = 4 gives H = 4Δx), ``alpha_max``/``alpha_min``
-    bound the Cullen–Dehnen viscosity, ``alpha_u`` is the ceiling of the
-    conduction coefficient's switch. ``particles``: a path to write the particle snapshot of
-    the last state to (SPEC §2; fluid, wall-virtual and buffer particles).
     Raises :class:`~cases.errors.SolverFailed` with the partial result if
-    the state turns non-physical or the run is interrupted. ``checkpoint``
-    is a file the state is saved to every ``checkpoint_every`` seconds and
-    on SIGINT or SIGTERM; ``resume`` continues from it
-    (:mod:`cases.checkpoint`; the neighbour lists are searched anew, so the
-    density solve, converged to 1e-8 in H, starts from other brackets and a
-    resumed run matches an uninterrupted one to ~1e-7, not bit for bit).
+    the state turns non-physical or the run is interrupted. Checkpoints as
+    in the other methods (:mod:`cases.checkpoint`); a resumed run searches
+    its neighbour lists anew, so the density solve, converged to 1e-8 in H,
+    starts from other brackets and the run matches an uninterrupted one to
+    ~1e-7, not bit for bit.
     """
-    if unknown:
-        raise InputError(f"method sph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
     check_supported(scene)
-    settings = {
-        "method": "sph", "dx": positive("dx", scene.dx if dx is None else dx),
-        "cfl": in_range("cfl", cfl, 0.0, 1.0, lo_open=True), "kernel": choice("kernel", kernel, tuple(kernels.KERNELS)),
-        "eta": in_range("eta", eta, 1.0, 8.0), "alpha_max": in_range("alpha_max", alpha_max, 0.0, 10.0),
-        "alpha_min": in_range("alpha_min", alpha_min, 0.0, 10.0), "alpha_u": in_range("alpha_u", alpha_u, 0.0, 10.0),
-        "masses": choice("masses", masses, MASSES),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    if masses == "lattice" and _has_inlet(scene):
-        raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
-    dx, t_end, dim = settings["dx"], settings["t_end"], scene.dim
-    check_fits("sph", elements_in(scene.domain, dx), particle_bytes(dim, 1.25 * settings["eta"]), "particles")
+    dx, t_end, dim, masses = settings.dx, settings.t_end, scene.dim, settings.masses
     check_obstacles(scene, dx)
-    cfl, eta, alpha_max, alpha_min, alpha_u = (settings[k] for k in ("cfl", "eta", "alpha_max", "alpha_min", "alpha_u"))
+    cfl, eta, alpha_max, alpha_min, alpha_u = (settings.cfl, settings.eta, settings.alpha_max, settings.alpha_min,
+                                               settings.alpha_u)
     switches = Switches(alpha_max, alpha_min, alpha_u)
     reach = outflow_reach(scene, dx, t_end, 4.0 * SUPPORT_GROWTH * eta * dx)
     box = extended_domain(scene, reach)
     P = _initial_particles(scene, dx, eta, alpha_min, box, masses)
     inflow = _inflow_buffer(scene, P, eta)
     # virtual particles reach twice the initial support into the solids
-    sph = GasSPH(scene, kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
+    sph = GasSPH(scene, settings.kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
                  walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None)
     t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) the numba kernels, and
@@ -286,67 +260,54 @@ def solve(scene, dx=None, cfl=0.25, kernel="wendland_c6", eta=4.0, alpha_max=2.5
     sph.counters = {"search": 0.0, "density": 0.0, "forces": 0.0}, 0, 0
     P.H, P.rho = E.H, E.rho
     _observe_inlet(inflow, P, E, 0.0, eta)
-    run = _Run(scene, sph, settings, compile_seconds, History(probes0, 2 * dim))
+    run = _Run(scene, sph, settings.record(), compile_seconds, History(probes0, 2 * dim))
     run.totals0 = _totals(P)
-    out_times = output_times(scene, t_end)
-    t, t_sampled = 0.0, 0.0
-    ckpt = checkpoint_for(scene, "sph", settings, checkpoint, checkpoint_every, resume)
+    t = 0.0
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
-        P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
+        P, E, t = saved["P"], saved["E"], saved["t"]
         run.reflections, run.totals0 = saved["reflections"], saved["totals0"]
         sph.counters = saved["counters"]
         sph.verlet.forget()
         if inflow:
             inflow.inflowed, inflow.entered, inflow.adjacent = saved["inflow"]
-    bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals(), threads_for(P.x.shape[0]):
+
+    def step(state, t, dt_cfl, t_out):
+        P, E = state
+        if run.n_steps % RESORT_STEPS == 0:
+            # neighbours next to each other in memory: particles sorted cell by cell
+            order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
+            P, E = P.take(order), E.take(order)
+            sph.verlet.renumber(order)
         try:
-            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
-                while t < t_out * (1 - 1e-14):
-                    if run.n_steps % RESORT_STEPS == 0:
-                        # neighbours next to each other in memory: particles sorted cell by cell
-                        order = sort_order(P.x, sph.lo, sph.hi, 0.5 * float(np.median(E.H)))
-                        P, E = P.take(order), E.take(order)
-                        sph.verlet.renumber(order)
-                    try:
-                        dt = min(time_step(P, E, cfl, MIN_STEP_FRACTION * t_end), t_out - t)
-                        # the layer moves over the step first, so that the buffer at t + dt no longer holds
-                        # the columns that crossed the inlet and join the fluid with the boundary state
-                        entering = _entering(inflow, t, dt, eta, P.m[0], alpha_min) if inflow else None
-                        Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]),
-                                                       entering,
-                                                       lambda Q: sph.retained(Q.x))
-                    except Unstable as err:
-                        raise run.failure(f"sph became unstable at t = {t:.6g} s (step {run.n_steps + 1}): "
-                                          f"{err}.", t, lambda: run.fields(P, E)) from None
-                    except FloatingPointError as err:
-                        raise run.failure(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.", t,
-                                          lambda: run.fields(P, E)) from None
-                    run.reflections += reflected
-                    P, E = Q, E_new
-                    t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                    _observe_inlet(inflow, P, E, t, eta)
-                    run.n_steps += 1
-                    bar.update(dt)
-                    bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
-                    if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
-                        sampled = _pressure_at(sph, P, E, sample_points)
-                        run.history.record(t_sampled, t, sampled[: len(scene.probes)], _side_forces(scene, sampled))
-                        t_sampled = t
-                    ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
-                                                    "reflections": run.reflections, "totals0": run.totals0,
-                                                    "counters": sph.counters,
-                                                    "inflow": (inflow.inflowed, inflow.entered, inflow.adjacent)
-                                                    if inflow else None},
-                                   lambda: run.fields(P, E))
-                run.add_frame(run.fields(P, E), t)
-        finally:
-            bar.close()
-            if particles is not None:
-                write_particles(_snapshot(sph, P, inflow, t), particles)
-    run.totals = _totals(P)
-    return run.dataset()
+            dt_stable = time_step(P, E, cfl, MIN_STEP_FRACTION * t_end)
+            dt = min(dt_stable, t_out - t)
+            # the layer moves over the step first, so that the buffer at t + dt no longer holds
+            # the columns that crossed the inlet and join the fluid with the boundary state
+            entering = _entering(inflow, t, dt, eta, P.m[0], alpha_min) if inflow else None
+            Q, E_new, reflected = leapfrog(sph, P, E, dt, switches, _buffer(inflow, t + dt, eta, P.m[0]), entering,
+                                           lambda Q: sph.retained(Q.x))
+        except Unstable as err:
+            raise StepFailed(f"sph became unstable at t = {t:.6g} s (step {run.n_steps + 1}): {err}.") from None
+        except FloatingPointError as err:
+            raise StepFailed(f"sph failed at t = {t + dt:.6g} s (step {run.n_steps + 1}): {err}.") from None
+        run.reflections += reflected
+        t_new = landed(t, dt, t_out)
+        _observe_inlet(inflow, Q, E_new, t_new, eta)
+        if t_new < run.history.t[-1] + scene.output.dt_probe * (1 - 1e-9) and t_new != t_out:
+            return (Q, E_new), dt, dt_stable, None
+        sampled = _pressure_at(sph, Q, E_new, sample_points)
+        return (Q, E_new), dt, dt_stable, (sampled[: len(scene.probes)], _side_forces(scene, sampled))
+
+    def saved_state(state, t, dt_cfl):
+        P, E = state
+        return {"P": P, "E": E, "t": t, "reflections": run.reflections, "totals0": run.totals0,
+                "counters": sph.counters,
+                "inflow": (inflow.inflowed, inflow.entered, inflow.adjacent) if inflow else None}
+
+    return march_particles(run, (P, E), t, step, ckpt, saved_state, settings, P.x.shape[0],
+                           lambda state, t: _snapshot(sph, state[0], inflow, t))
 
 
 def _has_inlet(scene) -> bool:
@@ -466,13 +427,14 @@ class _Run(RunRecord):
     def __init__(self, scene, sph, settings, compile_seconds, history):
         super().__init__(scene, "sph", settings, compile_seconds, history)
         self.sph, self.n_particles, self.reflections = sph, 0, 0
-        self.totals0 = self.totals = None
+        self.totals0 = None
         self.solid = None
         if scene.obstacles:
             X, Y = np.meshgrid(scene.output.x, scene.output.y)
             self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
-    def fields(self, P: Particles, E: Evaluation) -> dict:
+    def fields(self, state) -> dict:
+        P, E = state
         scene = self.scene
         values = {"rho": E.rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * E.rho * P.u, "e": P.u}
         if scene.dim == 2:
@@ -495,7 +457,7 @@ class _Run(RunRecord):
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.counters[0].items()}}
-        if not _has_inlet(self.scene) and self.totals is not None:
-            (m0, e0), (m1, e1) = self.totals0, self.totals
+        if not _has_inlet(self.scene):
+            (m0, e0), (m1, e1) = self.totals0, _totals(self.state[0])
             attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, self.solid, scheme, self.n_particles, attrs

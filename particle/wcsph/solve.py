@@ -29,24 +29,20 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from cases.checkpoint import CHECKPOINT_SETTINGS, checkpoint_for
-from cases.checks import in_range, positive
-from cases.errors import InputError
+from cases.checkpoint import checkpoint_for
 from cases.history import History, RunRecord
-from cases.march import output_times
-from cases.memory import check_fits, elements_in, particle_bytes
-from compare.io import particle_snapshot, write_particles
+from cases.march import StepFailed, landed
+from compare.io import particle_snapshot
 from particle import kernels
+from particle.march import march_particles
 from particle.neighbours import padded, sort_order
 from particle.sph.lists import PerParticle, VerletLists
 from particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
 from particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid
-from particle.threads import threads_for
 from particle.wcsph.flume import Tait, damping_rate, flume, water_at_rest
+from particle.wcsph.method import WCSPHSettings
 from particle.wcsph.rates import dynamic_density_gradients, rates
 
-SETTINGS = ("dx", "cfl", "c0", "alpha", "delta", "eta", "damping", "t_end", "progress", "particles",
-            *CHECKPOINT_SETTINGS)
 #: the kernel (SPEC §3.2: quintic Wendland, W ∝ (1 − q/2)^4 (2q + 1) for q = r/h ≤ 2)
 KERNEL = "wendland_c2"
 #: the lists are searched for this multiple of the support (the skin lets them serve a few steps)
@@ -191,46 +187,24 @@ class WaterSPH:
         return float(np.sum(P.m * (0.5 * np.sum(P.v * P.v, axis=1) + self.scene.g * P.x[:, 1] + e)))
 
 
-def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damping=None,
-          t_end=None, progress=True, particles=None, checkpoint=None, checkpoint_every=600.0, resume=False,
-          **unknown):
+def solve(scene, settings: WCSPHSettings):
     """Run the planar water ``scene`` with weakly compressible SPH in a
-    vertical slice.
+    vertical slice and checked ``settings``
+    (:class:`~particle.wcsph.method.WCSPHSettings`).
 
-    ``dx`` is the particle spacing [m] (default: a 25th of the depth),
-    ``c0`` the numerical sound speed as a multiple of sqrt(g d_max) (d_max
-    the deepest initial water), ``alpha`` the Monaghan viscosity, ``delta``
-    the density-diffusion coefficient (0: none), ``eta`` the kernel support
-    H in units of dx (H = 2h; default 4, h = 2 dx: at h = √2 dx a standing
-    wave 25 particles deep swings 6 % fast, at 2 dx within 1 %), ``damping`` the
-    length of the damping zone before an absorbing x_hi (default a fifth of
-    the flume). ``particles``: a path to write the particle snapshot of the
-    last state to. Raises :class:`~cases.errors.SolverFailed` with the
-    partial result if the state turns non-physical or the run is
-    interrupted; ``checkpoint``/``checkpoint_every``/``resume`` as in the
-    other methods (:mod:`cases.checkpoint`; the neighbour lists are searched
-    anew after a resume, which changes the summation order only).
+    Raises :class:`~cases.errors.SolverFailed` with the partial result if
+    the state turns non-physical or the run is interrupted. Checkpoints as
+    in the other methods (:mod:`cases.checkpoint`; the neighbour lists are
+    searched anew after a resume, which changes the summation order only).
     """
-    if unknown:
-        raise InputError(f"method wcsph has no setting {sorted(unknown)[0]!r}; settings: {', '.join(SETTINGS)}.")
-    settings = {
-        "method": "wcsph", "dx": positive("dx", scene.depth / 25.0 if dx is None else dx),
-        "cfl": in_range("cfl", cfl, 0.0, 0.4, lo_open=True), "c0": in_range("c0", c0, 3.0, 40.0),
-        "alpha": in_range("alpha", alpha, 0.0, 1.0), "delta": in_range("delta", delta, 0.0, 1.0),
-        "eta": in_range("eta", eta, 2.0, 4.0),
-        "damping": None if damping is None else positive("damping", damping),
-        "t_end": scene.t_end if t_end is None else positive("t_end", t_end),
-    }
-    dx, t_end, cfl = settings["dx"], settings["t_end"], settings["cfl"]
-    check_fits("wcsph", elements_in(scene.domain, dx) * scene.depth / dx, particle_bytes(2, 1.25 * settings["eta"]),
-               "particles")
-    slice_ = flume(scene, dx, settings["damping"])
-    settings["damping"] = slice_.damping
+    dx, t_end, cfl = settings.dx, settings.t_end, settings.cfl
+    slice_ = flume(scene, dx, settings.damping)
+    record = {**settings.record(), "damping": slice_.damping}
     deepest = float(np.max(np.asarray(scene.initial(scene.output.x, None)[0], float) - slice_.bed))
-    eos = Tait(scene.rho, settings["c0"] * math.sqrt(scene.g * max(deepest, scene.depth)))
+    eos = Tait(scene.rho, settings.c0 * math.sqrt(scene.g * max(deepest, scene.depth)))
     x, v, rho, m = water_at_rest(scene, slice_, dx, eos)
     P = Particles(x, v, rho, m)
-    sph = WaterSPH(scene, slice_, eos, dx, settings["eta"] * dx, settings["alpha"], settings["delta"])
+    sph = WaterSPH(scene, slice_, eos, dx, settings.eta * dx, settings.alpha, settings.delta)
     sigma = lambda x: damping_rate(slice_, x, scene.g, scene.depth)  # noqa: E731
     gauges = np.array([pr.x for pr in scene.probes] or [scene.output.x[0]])
     t0 = _time.perf_counter()
@@ -239,63 +213,54 @@ def solve(scene, dx=None, cfl=0.2, c0=10.0, alpha=0.01, delta=0.1, eta=4.0, damp
     sph.columns(P)
     compile_seconds = _time.perf_counter() - t0
     sph.counters = 0.0, 0, 0.0, 0
-    run = _Run(scene, sph, settings, compile_seconds, History(h_gauges + slice_.bed, 2))
+    run = _Run(scene, sph, record, compile_seconds, History(h_gauges + slice_.bed, 2))
     run.energies.append((0.0, sph.energy(P)))
-    out_times = output_times(scene, t_end)
-    t, t_sampled = 0.0, 0.0
-    ckpt = checkpoint_for(scene, "wcsph", settings, checkpoint, checkpoint_every, resume)
+    t = 0.0
+    ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
-        P, E, t, t_sampled = saved["P"], saved["E"], saved["t"], saved["t_sampled"]
+        P, E, t = saved["P"], saved["E"], saved["t"]
         sph.counters = saved["counters"]
     no_forces = np.zeros(2)
-    bar = run.progress_bar(t, t_end, progress)
-    with ckpt.watching_signals(), threads_for(P.x.shape[0]):
-        try:
-            for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)
-                while t < t_out * (1 - 1e-14):
-                    if run.n_steps % RESORT_STEPS == 0:
-                        order = sort_order(P.x, sph.lo, sph.hi, 0.5 * sph.H)
-                        P, E = P.take(order), E.take(order)
-                        sph.verlet.renumber(order)
-                    dt = min(sph.stable_dt(P, E, cfl), t_out - t)
-                    v_half, rho_half = P.v + 0.5 * dt * E.dvdt, P.rho + 0.5 * dt * E.drhodt
-                    v_pred, rho_pred = P.v + dt * E.dvdt, P.rho + dt * E.drhodt
-                    x_new = sph.verlet.wrapped(P.x + dt * v_half)
-                    x_new, v_half, v_pred, reflected = reflect_at_plane_walls(slice_, x_new, v_half, v_pred)
-                    run.reflections += reflected
-                    stay = sph.retained(x_new)
-                    Q = Particles(x_new, v_half, rho_half, P.m)
-                    if not stay.all():
-                        Q, v_pred, rho_pred = Q.take(stay), v_pred[stay], rho_pred[stay]
-                    E_new = sph.evaluate(Q.x, v_pred, rho_pred, Q.m)
-                    Q.v = (Q.v + 0.5 * dt * E_new.dvdt) / (1.0 + dt * sigma(Q.x))[:, None]
-                    Q.rho = Q.rho + 0.5 * dt * E_new.drhodt
-                    if not (np.all(np.isfinite(Q.v)) and np.all(Q.rho > 0.0)):
-                        k = int(np.flatnonzero(~(Q.rho > 0.0) | ~np.isfinite(Q.v).all(axis=1))[0])
-                        raise run.failure(f"wcsph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): "
-                                          f"density {Q.rho[k]:.4g} kg m-3, velocity {Q.v[k].round(4).tolist()} m/s "
-                                          f"at (x, z) = {Q.x[k].round(4).tolist()} m; lower cfl (now {cfl:g}).",
-                                          t, lambda: run.fields(P))
-                    P, E = Q, E_new
-                    t = t_out if t + dt >= t_out * (1 - 1e-14) else t + dt
-                    run.n_steps += 1
-                    bar.update(dt)
-                    bar.set_postfix_str(f"{run.n_steps} steps", refresh=False)
-                    if t >= t_sampled + scene.output.dt_probe * (1 - 1e-9) or t == t_out:
-                        h_gauges, _ = sph.columns(P, gauges)
-                        run.history.record(t_sampled, t, (h_gauges + slice_.bed)[: len(scene.probes)], no_forces)
-                        run.energies.append((t, sph.energy(P)))
-                        t_sampled = t
-                    ckpt.step_done(run, t, lambda: {"P": P, "E": E, "t": t, "t_sampled": t_sampled,
-                                                    "counters": sph.counters},
-                                   lambda: run.fields(P))
-                run.add_frame(run.fields(P), t)
-        finally:
-            bar.close()
-            if particles is not None:
-                write_particles(_snapshot(sph, P, t), particles)
-    return run.dataset()
+
+    def step(state, t, dt_cfl, t_out):
+        P, E = state
+        if run.n_steps % RESORT_STEPS == 0:
+            order = sort_order(P.x, sph.lo, sph.hi, 0.5 * sph.H)
+            P, E = P.take(order), E.take(order)
+            sph.verlet.renumber(order)
+        dt_stable = sph.stable_dt(P, E, cfl)
+        dt = min(dt_stable, t_out - t)
+        v_half, rho_half = P.v + 0.5 * dt * E.dvdt, P.rho + 0.5 * dt * E.drhodt
+        v_pred, rho_pred = P.v + dt * E.dvdt, P.rho + dt * E.drhodt
+        x_new = sph.verlet.wrapped(P.x + dt * v_half)
+        x_new, v_half, v_pred, reflected = reflect_at_plane_walls(slice_, x_new, v_half, v_pred)
+        run.reflections += reflected
+        stay = sph.retained(x_new)
+        Q = Particles(x_new, v_half, rho_half, P.m)
+        if not stay.all():
+            Q, v_pred, rho_pred = Q.take(stay), v_pred[stay], rho_pred[stay]
+        E_new = sph.evaluate(Q.x, v_pred, rho_pred, Q.m)
+        Q.v = (Q.v + 0.5 * dt * E_new.dvdt) / (1.0 + dt * sigma(Q.x))[:, None]
+        Q.rho = Q.rho + 0.5 * dt * E_new.drhodt
+        if not (np.all(np.isfinite(Q.v)) and np.all(Q.rho > 0.0)):
+            k = int(np.flatnonzero(~(Q.rho > 0.0) | ~np.isfinite(Q.v).all(axis=1))[0])
+            raise StepFailed(f"wcsph became unstable at t = {t + dt:.6g} s (step {run.n_steps + 1}): density "
+                             f"{Q.rho[k]:.4g} kg m-3, velocity {Q.v[k].round(4).tolist()} m/s at (x, z) = "
+                             f"{Q.x[k].round(4).tolist()} m; lower cfl (now {cfl:g}).")
+        t_new = landed(t, dt, t_out)
+        if t_new < run.history.t[-1] + scene.output.dt_probe * (1 - 1e-9) and t_new != t_out:
+            return (Q, E_new), dt, dt_stable, None
+        h_gauges, _ = sph.columns(Q, gauges)
+        run.energies.append((t_new, sph.energy(Q)))
+        return (Q, E_new), dt, dt_stable, ((h_gauges + slice_.bed)[: len(scene.probes)], no_forces)
+
+    def saved_state(state, t, dt_cfl):
+        P, E = state
+        return {"P": P, "E": E, "t": t, "counters": sph.counters}
+
+    return march_particles(run, (P, E), t, step, ckpt, saved_state, settings, P.x.shape[0],
+                           lambda state, t: _snapshot(sph, state[0], t))
 
 
 def _snapshot(sph: WaterSPH, P: Particles, t: float):
@@ -313,7 +278,8 @@ class _Run(RunRecord):
         super().__init__(scene, "wcsph", settings, compile_seconds, history)
         self.sph, self.reflections, self.energies, self.n_particles = sph, 0, [], 0
 
-    def fields(self, P: Particles) -> dict:
+    def fields(self, state) -> dict:
+        P = state[0]
         h, u = self.sph.columns(P)
         self.n_particles = P.x.shape[0]
         wet = h >= DRY_FRACTION * self.sph.dx

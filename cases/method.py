@@ -1,0 +1,62 @@
+"""The contract every method keeps (SPEC §1), in the style of PyClaw's
+``Solver`` and PySPH's ``Scheme``: a :class:`Method` declares its name, the
+medium it runs, whether it takes a ``seed``, its frozen settings dataclass
+(:mod:`cases.settings`), the memory a run needs and where its solver lives.
+
+A package registers a method by naming its ``Method`` in the entry-point
+group ``partmesh.methods``; :func:`cases.run.run` finds it there. A run
+checks the settings and the memory first and imports the solver (JAX,
+numba) only then, so bad input is refused in a second, before any
+compilation. The solver, ``solve(scene, settings) -> Dataset``, steps
+through :func:`cases.march.march`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from typing import Callable
+
+from cases.memory import check_fits
+from cases.settings import Settings
+
+
+@dataclass(frozen=True)
+class Memory:
+    """What a run allocates: ``elements`` (cells or particles) of
+    ``bytes_each`` bytes, what they are called, and the setting to raise to
+    make them fewer."""
+
+    elements: float
+    bytes_each: float
+    what: str
+    setting: str = "dx"
+
+
+@dataclass(frozen=True)
+class Method:
+    """One method: ``name``; the ``medium`` of the scenes it runs ("gas" or
+    "water"); whether it ``takes_seed`` (a stochastic method, which
+    ensembles can average); its ``settings`` class; ``memory(scene,
+    settings) -> Memory``; and ``solver``, the ``"module:function"`` of its
+    ``solve(scene, settings)``."""
+
+    name: str
+    medium: str
+    settings: type[Settings]
+    memory: Callable
+    solver: str
+    takes_seed: bool = False
+
+    def checked(self, scene, given: dict) -> Settings:
+        """The settings ``given`` (values or command-line text), checked for a
+        run of ``scene``, and the run checked to fit in memory."""
+        settings = self.settings.checked(scene, given)
+        need = self.memory(scene, settings)
+        check_fits(self.name, need.elements, need.bytes_each, need.what, need.setting)
+        return settings
+
+    def solve(self, scene, settings: Settings):
+        """Run ``scene`` with checked ``settings``; returns the schema Dataset."""
+        module, function = self.solver.split(":")
+        return getattr(importlib.import_module(module), function)(scene, settings)

@@ -1,0 +1,36 @@
+"""Method ``fv``: its settings and its entry in the method registry
+(:mod:`cases.method`); the solver is :mod:`gridref.euler.solve`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from cases.checks import cfl, choice
+from cases.memory import elements_in, grid_cell_bytes
+from cases.method import Memory, Method
+from cases.settings import Settings, setting
+
+#: the slope limiters of :mod:`gridref.euler.reconstruct` and the Riemann solvers of :mod:`gridref.euler.riemann`
+LIMITER_NAMES = ("minmod", "mc", "vanleer", "superbee", "first_order")
+RIEMANN_NAMES = ("hllc", "hll", "rusanov", "efm")
+
+
+@dataclass(frozen=True)
+class FVSettings(Settings):
+    """Settings of the unsplit MUSCL–Hancock finite-volume scheme: ``dx``
+    the cell size [m], ``cfl`` the Courant number, ``limiter`` the slope
+    limiter, ``riemann`` the Riemann solver."""
+
+    method: ClassVar[str] = "fv"
+
+    cfl: float = setting(0.8, lambda name, value: cfl(value), "Courant number in (0, 1]")
+    limiter: str = setting("mc", lambda name, value: choice(name, value, LIMITER_NAMES), "slope limiter")
+    riemann: str = setting("hllc", lambda name, value: choice(name, value, RIEMANN_NAMES), "Riemann solver")
+
+
+def memory(scene, settings: FVSettings) -> Memory:
+    return Memory(elements_in(scene.domain, settings.dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
+
+
+METHOD = Method("fv", "gas", FVSettings, memory, "gridref.euler.solve:solve")

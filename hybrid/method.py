@@ -1,0 +1,69 @@
+"""Method ``hybrid``: its settings and its entry in the method registry
+(:mod:`cases.method`); the solver is :mod:`hybrid.solve`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from cases.checks import cfl, choice, in_range, integer, positive
+from cases.memory import elements_in, grid_cell_bytes
+from cases.method import Memory, Method
+from compare.checks import InputError
+from cases.settings import setting
+from gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
+from hybrid.cells import SENSORS
+from particle.sph.method import SPHScheme
+
+#: the most particles per cell width (beta = 1/k)
+MOST_PER_CELL = 16
+
+
+@dataclass(frozen=True)
+class HybridSettings(SPHScheme):
+    """Settings of the hybrid finite-volume – SPH method: ``dx`` the
+    particle spacing [m], ``beta`` the ratio of particle spacing to cell
+    width (1/k for a whole k: the grid's cells are ``dx / beta`` wide),
+    ``threshold`` the relative jump between neighbouring cells above which
+    a cell gets particles — of density or pressure (``sensor="rho,p"``:
+    shocks and contacts), of pressure alone (``"p"``: contacts stay on the
+    grid) or of pressure across compressing faces (``"shock"``: only shocks
+    hold particles) — ``buffer`` the cells added around those, ``cfl`` the
+    grid's Courant number, ``cfl_sph`` the particles' (Δt = C min h/v_sig);
+    the SPH scheme's settings are those of method ``sph``
+    (:class:`~particle.sph.method.SPHScheme`), ``limiter`` and ``riemann``
+    those of ``fv``."""
+
+    method: ClassVar[str] = "hybrid"
+
+    beta: float = setting(0.25, lambda name, value: in_range(name, value, 0.0, 1.0, lo_open=True),
+                          "particle spacing over cell width, 1/k")
+    threshold: float = setting(0.05, positive, "relative jump that gives a cell particles, > 0")
+    sensor: str = setting("rho,p", lambda name, value: choice(name, value, SENSORS), "what the jump is of")
+    buffer: int = setting(2, lambda name, value: integer(name, value, 0), "cells added around flagged ones, at least 0")
+    cfl: float = setting(0.8, lambda name, value: cfl(value), "the grid's Courant number in (0, 1]")
+    cfl_sph: float = setting(0.25, lambda name, value: in_range(name, value, 0.0, 1.0, lo_open=True),
+                             "the particles' Courant number in (0, 1]")
+    limiter: str = setting("mc", lambda name, value: choice(name, value, LIMITER_NAMES), "the grid's slope limiter")
+    riemann: str = setting("hllc", lambda name, value: choice(name, value, RIEMANN_NAMES), "the grid's Riemann solver")
+
+    @property
+    def per_cell(self) -> int:
+        """Particles per cell width, 1/beta."""
+        return int(round(1.0 / self.beta))
+
+    def check_together(self, scene) -> None:
+        if abs(self.per_cell * self.beta - 1.0) > 1e-9 or self.per_cell > MOST_PER_CELL:
+            raise InputError(f"beta must be 1/k for a whole k from 1 to {MOST_PER_CELL} (particles per cell width); "
+                             f"got {self.beta:g}.")
+        if scene.obstacles:
+            raise InputError(f"method hybrid runs scenes without obstacles; {scene.name} has {len(scene.obstacles)}.")
+
+
+def memory(scene, settings: HybridSettings) -> Memory:
+    """The grid's share; the particles live only in the cells the sensor flags."""
+    return Memory(elements_in(scene.domain, settings.dx / settings.beta), grid_cell_bytes(scene.dim + 2, scene),
+                  "grid cells")
+
+
+METHOD = Method("hybrid", "gas", HybridSettings, memory, "hybrid.solve:solve")

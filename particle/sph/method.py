@@ -1,0 +1,66 @@
+"""Method ``sph``: its settings and its entry in the method registry
+(:mod:`cases.method`); the solver is :mod:`particle.sph.solve`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from cases.checks import choice, in_range
+from cases.memory import elements_in, particle_bytes
+from cases.method import Memory, Method
+from cases.scene import Inflow
+from cases.settings import Settings, optional_path, setting
+from compare.checks import InputError
+from particle.kernels import KERNELS
+
+#: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
+#: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take)
+MASSES = ("equal", "lattice")
+
+
+def _from(lo, hi, **ends):
+    """The check of a number in [lo, hi] (ends open where asked)."""
+    return lambda name, value: in_range(name, value, lo, hi, **ends)
+
+
+@dataclass(frozen=True)
+class SPHScheme(Settings):
+    """The settings of the grad-h SPH scheme (Price 2012): ``kernel``,
+    ``eta`` the support radius in units of the local spacing (H = η
+    (m/ρ)^(1/d); η = 4 gives H = 4Δx), ``alpha_max``/``alpha_min`` the
+    bounds of the Cullen–Dehnen viscosity, ``alpha_u`` the ceiling of the
+    conduction coefficient's switch."""
+
+    kernel: str = setting("wendland_c6", lambda name, value: choice(name, value, tuple(KERNELS)), "SPH kernel")
+    eta: float = setting(4.0, _from(1.0, 8.0), "support radius in local spacings, in [1, 8]")
+    alpha_max: float = setting(2.5, _from(0.0, 10.0), "ceiling of the viscosity switch, in [0, 10]")
+    alpha_min: float = setting(0.0, _from(0.0, 10.0), "floor of the viscosity switch, in [0, 10]")
+    alpha_u: float = setting(1.0, _from(0.0, 10.0), "ceiling of the conduction switch, in [0, 10]")
+
+
+@dataclass(frozen=True)
+class SPHSettings(SPHScheme):
+    """Settings of compressible SPH: ``dx`` the initial particle spacing in
+    the densest gas (``masses="equal"``) or everywhere (``masses="lattice"``:
+    the square lattice, masses ρ dx^d), ``cfl`` the step's Courant number
+    (Δt = C min h/v_sig), the scheme's settings (:class:`SPHScheme`), and
+    ``particles``, a file to write the last state's particles to (SPEC §2)."""
+
+    method: ClassVar[str] = "sph"
+
+    cfl: float = setting(0.25, _from(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
+    masses: str = setting("equal", lambda name, value: choice(name, value, MASSES), "initial particle masses")
+    particles: str | None = setting(None, optional_path, "file for the particles of the last state")
+
+    def check_together(self, scene) -> None:
+        if self.masses == "lattice" and any(isinstance(scene.boundaries[s], Inflow) for s in scene.sides):
+            raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
+
+
+def memory(scene, settings: SPHSettings) -> Memory:
+    return Memory(elements_in(scene.domain, settings.dx), particle_bytes(scene.dim, 1.25 * settings.eta),
+                  "particles")
+
+
+METHOD = Method("sph", "gas", SPHSettings, memory, "particle.sph.solve:solve")
