@@ -95,6 +95,8 @@ class RunRecord(ABC):
         self.t_start = _time.perf_counter()
         #: the last good state of the run and its time (:func:`cases.march.march` keeps them)
         self.state, self.t = None, 0.0
+        #: the conserved totals of the initial state (:meth:`totals`)
+        self.totals0 = None
 
     def progress_bar(self, t: float, t_end: float, progress: bool):
         """The run's progress bar from ``t`` to ``t_end``: simulated time, wall
@@ -104,6 +106,22 @@ class RunRecord(ABC):
         return tqdm(total=t_end, initial=t, disable=None if progress else True, desc=f"{self.method} {self.scene.name}",
                     leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g}/{total:.4g} s "
                                             "[{elapsed}<{remaining}] {postfix}")
+
+    def totals(self, state) -> dict | None:
+        """The conserved totals of ``state`` (``{"mass": …, "energy": …}``),
+        whose drift from the initial state a run in a closed domain reports;
+        None where a method reports none."""
+        return None
+
+    def drift(self) -> dict:
+        """``mass_drift`` and ``energy_drift`` (relative, of the last good
+        state against the initial one) where no gas or water crosses a side
+        (every side a wall or periodic) and the method keeps totals."""
+        closed = all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides)
+        if not closed or self.totals0 is None or self.state is None:
+            return {}
+        now = self.totals(self.state)
+        return {f"{name}_drift": abs(now[name] - before) / abs(before) for name, before in self.totals0.items()}
 
     def output_frame(self, state) -> dict:
         """The fields an output frame keeps of ``state``: :meth:`fields`,
@@ -125,14 +143,14 @@ class RunRecord(ABC):
         """What a checkpoint keeps of the record (frames, history, steps,
         wall time so far)."""
         return {"frames": self.frames, "frame_times": self.frame_times, "frame_seconds": self.frame_seconds,
-                "n_steps": self.n_steps,
+                "n_steps": self.n_steps, "totals0": self.totals0,
                 "history": self.history, "wall": _time.perf_counter() - self.t_start}
 
     def restore(self, saved: dict) -> None:
         """Continue the record :meth:`saved` returned (its wall time counts)."""
         self.frames, self.frame_times = saved["frames"], saved["frame_times"]
         self.frame_seconds = saved.get("frame_seconds", [np.nan] * len(self.frame_times))
-        self.n_steps, self.history = saved["n_steps"], saved["history"]
+        self.n_steps, self.history, self.totals0 = saved["n_steps"], saved["history"], saved["totals0"]
         self.t_start = _time.perf_counter() - saved["wall"]
 
     def failure(self, message: str, t: float, frame) -> SolverFailed:
@@ -150,7 +168,7 @@ class RunRecord(ABC):
         fields, solid, scheme, n_elements, attrs = self.output()
         t_probe = out.probe_times(self.frame_times[-1])
         series = self.history.series(scene, t_probe)
-        attrs = {**attrs, "status": status}
+        attrs = {**attrs, **self.drift(), "status": status}
         if failure:
             attrs["failure"] = failure
         return result(

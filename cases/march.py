@@ -95,7 +95,8 @@ def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, 
 
     At every output time the run keeps a frame (``run.output_frame(state)``);
     every stretch's records go to ``run.history``; ``run.state`` and
-    ``run.t`` hold the last good state. ``dt_cfl`` is the stable step of
+    ``run.t`` hold the last good state, ``run.totals0`` the conserved
+    totals of the first. ``dt_cfl`` is the stable step of
     ``state`` (``inf`` where a method's step finds its own). A step that
     raises :class:`StepFailed`, turns the state non-physical (NaN stable
     step) or lets the stable step collapse below ``DT_FLOOR · t_end`` stops
@@ -111,6 +112,8 @@ def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, 
     out_times = output_times(run.scene, t_end)
     sizer, floor = StretchSizer(advance.n_records), DT_FLOOR * t_end
     run.state, run.t = state, t
+    if run.totals0 is None:  # (a resumed run has them from its checkpoint)
+        run.totals0 = run.totals(state)
     with ckpt.watching_signals():
         try:
             for t_out in out_times[len(run.frame_times):]:  # (one frame per output time)

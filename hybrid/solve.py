@@ -329,14 +329,12 @@ def solve(scene, settings: HybridSettings):
     probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
     run = _Run(scene, coupling, settings.record(), compile_seconds,
                History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim))
-    run.totals0 = totals_of(U, coupling.volume)
     t, dt_cfl = 0.0, float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
         S, t, dt_cfl = saved["S"], saved["t"], saved["dt_cfl"]
         S.U = tuple(jnp.asarray(a) for a in S.U)
-        run.totals = saved["totals"]
         for name, value in saved["counts"].items():
             setattr(coupling, name, value)
         sph.seconds, sph.force_interactions = saved["sph_seconds"], saved["force_interactions"]
@@ -348,7 +346,6 @@ def solve(scene, settings: HybridSettings):
         if not np.isfinite(dt_cfl):
             return S, dt, dt_cfl, None
         probes = interpolated(coupling.primitive(S_new.U)[-1:], probe_stencil)[0][: len(scene.probes)]
-        run.totals = totals_of(S_new.U, coupling.volume)
         return S_new, dt, dt_cfl, (probes, forces)
 
     def diagnose(S, t, step, dt, failed):
@@ -356,15 +353,10 @@ def solve(scene, settings: HybridSettings):
 
     def saved_state(S, t, dt_cfl):
         return {"S": dataclasses.replace(S, U=tuple(np.asarray(a) for a in S.U)), "t": t, "dt_cfl": dt_cfl,
-                "totals": run.totals, "counts": {name: getattr(coupling, name) for name in COUNTS},
+                "counts": {name: getattr(coupling, name) for name in COUNTS},
                 "sph_seconds": dict(sph.seconds), "force_interactions": sph.force_interactions}
 
     return march(run, S, t, dt_cfl, t_end, single_steps(step), ckpt, bar, saved_state, diagnose)
-
-
-def totals_of(U, volume: float) -> np.ndarray:
-    """Mass, momentum and energy on the grid (per metre depth in 2D)."""
-    return np.array([float(jnp.sum(a)) * volume for a in U])
 
 
 class _Run(RunRecord):
@@ -375,11 +367,15 @@ class _Run(RunRecord):
     def __init__(self, scene, coupling, settings, compile_seconds, history):
         super().__init__(scene, "hybrid", settings, compile_seconds, history)
         self.coupling = coupling
-        self.totals0 = self.totals = None
         out = scene.output
         points = np.stack(np.meshgrid(*([out.x] if scene.dim == 1 else [out.x, out.y])), axis=-1).reshape(-1, scene.dim)
         #: the grid cell of every output point, in the output layout
         self.out_cell = cell_of(points, coupling.lo, coupling.cell, coupling.shape)
+
+    def totals(self, S: State) -> dict:
+        """Mass and energy on the grid (per metre depth in 2D; the particles'
+        are deposited on it after every step)."""
+        return {name: float(jnp.sum(S.U[k])) * self.coupling.volume for name, k in (("mass", 0), ("energy", -1))}
 
     def fields(self, S: State) -> dict:
         scene, c = self.scene, self.coupling
@@ -416,8 +412,4 @@ class _Run(RunRecord):
                  **{f"seconds_{name}": seconds for name, seconds in c.sph.counters[0].items()},
                  "deposition": "grid fields linearly interpolated; Shepard interpolation of the particles "
                                "in the cells that hold them"}
-        if all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides) \
-                and self.totals is not None:
-            (m0, e0), (m1, e1) = self.totals0[[0, -1]], self.totals[[0, -1]]
-            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, None, scheme, c.n_cells + c.most_particles, attrs

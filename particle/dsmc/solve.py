@@ -173,7 +173,6 @@ class _Gas:
             *self.polygons, np.array([lo for lo, _ in out.domain]), np.asarray(out.spacing), out.shape)
         self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
         self.cells.add(self.x, self.v, self.e)
-        self.totals0 = self.totals()
         self.state = self.cells.state(self.mass, scene.gamma)
 
     def saved(self) -> dict:
@@ -454,6 +453,11 @@ class _Run(RunRecord):
         cell = cell_index(points, gas.lo, gas.spacing, gas.cells.shape_array)
         return gas.state[3].reshape(-1)[cell]
 
+    def totals(self, gas) -> dict:
+        """Mass and energy (translational and internal) of all particles."""
+        mass, energy = gas.totals()
+        return {"mass": mass, "energy": energy}
+
     def fields(self, gas) -> dict:
         """The fields of the particles as they are (a partial result's last frame)."""
         return self._fields_of(gas.snapshot())
@@ -496,7 +500,4 @@ class _Run(RunRecord):
                  "collisions": self.gas.collisions,
                  "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides and "
                                   "probes: the adjacent cell's pressure"}
-        if all(kind != OPEN for kind in self.gas.sides):
-            (m0, e0), (m1, e1) = self.gas.totals0, self.gas.totals()
-            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs

@@ -261,13 +261,12 @@ def solve(scene, settings: SPHSettings):
     P.H, P.rho = E.H, E.rho
     _observe_inlet(inflow, P, E, 0.0, eta)
     run = _Run(scene, sph, settings.record(), compile_seconds, History(probes0, 2 * dim))
-    run.totals0 = _totals(P)
     t = 0.0
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
         P, E, t = saved["P"], saved["E"], saved["t"]
-        run.reflections, run.totals0 = saved["reflections"], saved["totals0"]
+        run.reflections = saved["reflections"]
         sph.counters = saved["counters"]
         sph.verlet.forget()
         if inflow:
@@ -302,8 +301,7 @@ def solve(scene, settings: SPHSettings):
 
     def saved_state(state, t, dt_cfl):
         P, E = state
-        return {"P": P, "E": E, "t": t, "reflections": run.reflections, "totals0": run.totals0,
-                "counters": sph.counters,
+        return {"P": P, "E": E, "t": t, "reflections": run.reflections, "counters": sph.counters,
                 "inflow": (inflow.inflowed, inflow.entered, inflow.adjacent) if inflow else None}
 
     return march_particles(run, (P, E), t, step, ckpt, saved_state, settings, P.x.shape[0],
@@ -328,11 +326,6 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
     x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
     kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
     return particle_snapshot(x, v, rho, (gamma - 1.0) * rho * u, m, H, kind, KINDS, sph.scene.name, "sph", t)
-
-
-def _totals(P: Particles) -> tuple[float, float]:
-    """Total mass Σm and total energy Σ m (u + |v|²/2) of the fluid particles."""
-    return float(P.m.sum()), float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))
 
 
 def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Particles:
@@ -427,11 +420,15 @@ class _Run(RunRecord):
     def __init__(self, scene, sph, settings, compile_seconds, history):
         super().__init__(scene, "sph", settings, compile_seconds, history)
         self.sph, self.n_particles, self.reflections = sph, 0, 0
-        self.totals0 = None
         self.solid = None
         if scene.obstacles:
             X, Y = np.meshgrid(scene.output.x, scene.output.y)
             self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
+
+    def totals(self, state) -> dict:
+        """Total mass Σm and energy Σ m (u + |v|²/2) of the fluid particles."""
+        P = state[0]
+        return {"mass": float(P.m.sum()), "energy": float(np.sum(P.m * (P.u + 0.5 * np.sum(P.v * P.v, axis=1))))}
 
     def fields(self, state) -> dict:
         P, E = state
@@ -457,7 +454,4 @@ class _Run(RunRecord):
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.counters[0].items()}}
-        if not _has_inlet(self.scene):
-            (m0, e0), (m1, e1) = self.totals0, _totals(self.state[0])
-            attrs.update(mass_drift=abs(m1 - m0) / m0, energy_drift=abs(e1 - e0) / e0)
         return fields, self.solid, scheme, self.n_particles, attrs
