@@ -7,8 +7,21 @@ A package registers a method by naming its ``Method`` in the entry-point
 group ``partmesh.methods``; :func:`cases.run.run` finds it there. A run
 checks the settings and the memory first and imports the solver (JAX,
 numba) only then, so bad input is refused in a second, before any
-compilation. The solver, ``solve(scene, settings) -> Dataset``, steps
-through :func:`cases.march.march`.
+compilation.
+
+The solver, ``solve(scene, settings) -> Dataset``, supplies the step
+protocol and hands it to the one time loop, :func:`cases.march.march`:
+
+- its record, a :class:`cases.history.RunRecord` subclass: the fields of a
+  state on the scene's output grid (``fields``), its conserved totals
+  (``totals``), the scheme and attributes of the result (``output``);
+- the initial state, its time and stable step (a resumed run takes them
+  from :class:`cases.checkpoint.Checkpoint`);
+- ``advance``: a stretch of steps with its probe values and side forces
+  (:class:`cases.march.Stretch`) — compiled on the device for a grid
+  method, one host step for the others (:class:`cases.march.single_steps`);
+- ``saved_state``: what a checkpoint keeps of a state, and ``diagnose``:
+  the one sentence a failed step ends with.
 """
 
 from __future__ import annotations
