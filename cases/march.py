@@ -89,11 +89,11 @@ class StretchSizer:
             self.n = int(np.clip(STRETCH_SECONDS * steps / max(seconds, 1e-9), 1, self.limit))
 
 
-def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, ckpt, bar, saved_state,
-          diagnose=None):
-    """Advance ``state`` from ``t`` to ``t_end`` in stretches of
+def march(run, state, t: float, dt_cfl: float, advance: Callable, ckpt, saved_state, settings, diagnose=None):
+    """Advance ``state`` from ``t`` to ``settings.t_end`` in stretches of
     ``advance`` (see the module docstring; ``advance.n_records`` bounds a
-    stretch) and return the run's Dataset.
+    stretch), with a progress bar unless ``settings.progress`` is False,
+    and return the run's Dataset.
 
     At every output time the run keeps a frame (``run.output_frame(state)``);
     every stretch's records go to ``run.history``; ``run.state`` and
@@ -107,11 +107,11 @@ def march(run, state, t: float, dt_cfl: float, t_end: float, advance: Callable, 
     step, dt, failed) -> str``, one sentence on when, where and what (the
     step ``dt`` made the state non-physical: ``failed``; or the stable step
     collapsed to ``dt``). ``ckpt`` (:mod:`cases.checkpoint`) saves
-    ``saved_state(state, t, dt_cfl)`` (a dict) between stretches; ``bar``
-    shows the progress.
+    ``saved_state(state, t, dt_cfl)`` (a dict) between stretches.
     """
-    diagnose = diagnose or _collapsed
+    diagnose, t_end = diagnose or _collapsed, settings.t_end
     out_times = output_times(run.scene, t_end)
+    bar = run.progress_bar(t, t_end, settings.progress)
     sizer, floor = StretchSizer(advance.n_records), DT_FLOOR * t_end
     run.state, run.t = state, t
     if run.totals0 is None:  # (a resumed run has them from its checkpoint)

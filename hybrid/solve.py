@@ -304,7 +304,7 @@ def solve(scene, settings: HybridSettings):
     uninterrupted one.
     """
     configure_jax()
-    dx, t_end, per_cell = settings.dx, settings.t_end, settings.per_cell
+    dx, per_cell = settings.dx, settings.per_cell
     kernel, eta, alpha_max, alpha_min, alpha_u, limiter, riemann, sensor = (
         settings.kernel, settings.eta, settings.alpha_max, settings.alpha_min, settings.alpha_u, settings.limiter,
         settings.riemann, settings.sensor)
@@ -338,7 +338,6 @@ def solve(scene, settings: HybridSettings):
         for name, value in saved["counts"].items():
             setattr(coupling, name, value)
         sph.seconds, sph.force_interactions = saved["sph_seconds"], saved["force_interactions"]
-    bar = run.progress_bar(t, t_end, settings.progress)
 
     def step(S, t, dt_cfl, t_out):
         dt = min(dt_cfl, t_out - t)
@@ -356,7 +355,7 @@ def solve(scene, settings: HybridSettings):
                 "counts": {name: getattr(coupling, name) for name in COUNTS},
                 "sph_seconds": dict(sph.seconds), "force_interactions": sph.force_interactions}
 
-    return march(run, S, t, dt_cfl, t_end, single_steps(step), ckpt, bar, saved_state, diagnose)
+    return march(run, S, t, dt_cfl, single_steps(step), ckpt, saved_state, settings, diagnose)
 
 
 class _Run(RunRecord):

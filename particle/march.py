@@ -21,8 +21,7 @@ def march_particles(run, state, t: float, step, ckpt, saved_state, settings, par
     ``settings.particles`` if that names a file."""
     try:
         with threads_for(particles):
-            return march(run, state, t, np.inf, settings.t_end, single_steps(step), ckpt,
-                         run.progress_bar(t, settings.t_end, settings.progress), saved_state)
+            return march(run, state, t, np.inf, single_steps(step), ckpt, saved_state, settings)
     finally:
         if getattr(settings, "particles", None) is not None and run.state is not None:
             write_particles(snapshot(run.state, run.t), settings.particles)

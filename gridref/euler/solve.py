@@ -87,7 +87,7 @@ def solve(scene, settings: FVSettings):
     continues from it (:mod:`cases.checkpoint`).
     """
     configure_jax()
-    dx, t_end, gamma, cfl = settings.dx, settings.t_end, scene.gamma, settings.cfl
+    dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl
     grid = solver_grid(scene.domain, dx)
     ib = _immersed(scene, grid, dx)
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
@@ -108,7 +108,6 @@ def solve(scene, settings: FVSettings):
     saved = ckpt.saved_state(run)
     if saved is not None:
         state, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["state"]), saved["t"], saved["dt_cfl"]
-    bar = run.progress_bar(t, t_end, settings.progress)
 
     def diagnose(state, t, step, dt, failed):
         U = state[0]
@@ -120,7 +119,7 @@ def solve(scene, settings: FVSettings):
     def saved_state(state, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, state, t, dt_cfl, t_end, stepper.stretch, ckpt, bar, saved_state, diagnose)
+    return march(run, state, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
 
 
 def _immersed(scene, grid, dx):

@@ -91,7 +91,7 @@ def solve(scene, settings: SWESettings):
     methods (:mod:`cases.checkpoint`).
     """
     configure_jax()
-    dx, t_end = settings.dx, settings.t_end
+    dx = settings.dx
     grid = solver_grid(scene.domain, dx)
     X, Y = mesh(grid)
     z = np.broadcast_to(np.asarray(scene.bed(X, Y), float), X.shape)
@@ -116,7 +116,6 @@ def solve(scene, settings: SWESettings):
     saved = ckpt.saved_state(run)
     if saved is not None:
         U, t, dt_cfl = tuple(jnp.asarray(a, dtype) for a in saved["U"]), saved["t"], saved["dt_cfl"]
-    bar = run.progress_bar(t, t_end, settings.progress)
 
     def diagnose(U, t, step, dt, failed):
         if failed:  # the state the failed step of dt made
@@ -126,7 +125,7 @@ def solve(scene, settings: SWESettings):
     def saved_state(U, t, dt_cfl):
         return {"U": [np.asarray(a) for a in U], "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, U, t, dt_cfl, t_end, stepper.stretch, ckpt, bar, saved_state, diagnose)
+    return march(run, U, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
 
 
 class _Run(RunRecord):
