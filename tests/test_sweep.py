@@ -69,15 +69,16 @@ def test_a_killed_sweep_is_finished_by_running_it_again(tmp_path):
 
 
 def _stoppable_command(folder):
-    # fv at 1e-4 (5 487 steps, seconds) first, then a run of 0.5 s; one worker, a checkpoint every 0.3 s
-    return [sys.executable, "-m", "cases.cli", "sweep", "sod", "-m", "fv", "--dx", "1e-4,1e-3", "--workers", "1",
+    # fv at 5e-5 (20 000 cells, about 11 000 steps: some 15 s in stretches of about 1 s) first, then a run of
+    # 0.5 s; one worker, a checkpoint every 0.3 s
+    return [sys.executable, "-m", "cases.cli", "sweep", "sod", "-m", "fv", "--dx", "5e-5,1e-3", "--workers", "1",
             "--option", "checkpoint_every=0.3", "--quiet", "-o", str(folder)]
 
 
 def _stopped(folder, send, after_ns=0):
     """Run the sweep until the long run saves its state (after ``after_ns``), stop it with ``send(process)``;
     return its stderr."""
-    checkpoint = folder / "sod_fv_dx0.0001.nc.checkpoint"
+    checkpoint = folder / "sod_fv_dx5e-05.nc.checkpoint"
     process = subprocess.Popen(_stoppable_command(folder), start_new_session=True, stdout=subprocess.DEVNULL,
                                stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 180
@@ -105,8 +106,8 @@ def test_a_stopped_sweep_saves_its_runs_under_way_and_resumes_them(tmp_path):
     the other run does not begin; run again, the sweep resumes from the state and ends with the uninterrupted
     result, bit for bit."""
     folder = tmp_path / "runs"
-    long, short = folder / "sod_fv_dx0.0001.nc", folder / "sod_fv_dx0.001.nc"
-    checkpoint = folder / "sod_fv_dx0.0001.nc.checkpoint"
+    long, short = folder / "sod_fv_dx5e-05.nc", folder / "sod_fv_dx0.001.nc"
+    checkpoint = folder / "sod_fv_dx5e-05.nc.checkpoint"
     reached = []
     for send, by, name in ((lambda p: p.send_signal(signal.SIGTERM), "SIGTERM", "SIGTERM"),
                            (lambda p: _to_the_worker(p, signal.SIGTERM), "a signal to its workers", "SIGTERM"),
@@ -121,7 +122,7 @@ def test_a_stopped_sweep_saves_its_runs_under_way_and_resumes_them(tmp_path):
     again = subprocess.run(_stoppable_command(folder), capture_output=True, text=True)
     assert again.returncode == 0 and "2 runs of sod: 2 ran" in again.stdout, again.stderr
     assert finished(long) and finished(short) and not checkpoint.exists()
-    whole, result = cases.run("sod", "fv", dx=1e-4, progress=False), read(long)
+    whole, result = cases.run("sod", "fv", dx=5e-5, progress=False), read(long)
     assert result.attrs["n_steps"] == whole.attrs["n_steps"]
     for name in whole.data_vars:
         np.testing.assert_array_equal(result[name].values, whole[name].values, err_msg=name)
