@@ -37,8 +37,9 @@ from pathlib import Path
 from cases.checks import flag, positive
 from cases.errors import InputError
 
-#: settings that say where and how often to checkpoint, not what the run computes
-CHECKPOINT_SETTINGS = ("checkpoint", "checkpoint_every", "resume")
+#: the layout of a checkpoint's state: a checkpoint of another layout is refused, not half-read
+#: (2: the run record keeps the initial totals and, for dsmc, the moments of the frame under way)
+FORMAT = 2
 
 #: the signals that stop a run cleanly
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -207,6 +208,6 @@ def checkpoint_for(scene, settings) -> Checkpoint:
     and the run's identity (scene, method, the settings it computes with)."""
     from compare.schema import version
 
-    identity = {"version": version(), "scene": scene.to_dict(), "method": settings.method,
+    identity = {"version": version(), "format": FORMAT, "scene": scene.to_dict(), "method": settings.method,
                 "settings": settings.record()}
     return Checkpoint(settings.checkpoint, settings.checkpoint_every, settings.resume, identity)

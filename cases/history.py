@@ -113,12 +113,16 @@ class RunRecord(ABC):
         None where a method reports none."""
         return None
 
+    def closed(self) -> bool:
+        """Whether the totals should hold: no gas or water crosses a side
+        (every side a wall or periodic)."""
+        return all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides)
+
     def drift(self) -> dict:
         """``mass_drift`` and ``energy_drift`` (relative, of the last good
-        state against the initial one) where no gas or water crosses a side
-        (every side a wall or periodic) and the method keeps totals."""
-        closed = all(self.scene.boundaries[side] in ("reflect", "periodic") for side in self.scene.sides)
-        if not closed or self.totals0 is None or self.state is None:
+        state against the initial one) where the domain is :meth:`closed`
+        and the method keeps totals."""
+        if not self.closed() or self.totals0 is None or self.state is None:
             return {}
         now = self.totals(self.state)
         return {f"{name}_drift": abs(now[name] - before) / abs(before) for name, before in self.totals0.items()}

@@ -135,7 +135,7 @@ def march(run, state, t: float, dt_cfl: float, advance: Callable, ckpt, saved_st
                         bar.update(s.t - t)
                     state, t, dt_cfl = s.state, s.t, s.dt_cfl
                     run.state, run.t = state, t
-                    if np.isnan(dt_cfl):
+                    if not np.isfinite(dt_cfl):
                         # the last good state is kept for the partial result
                         raise run.failure(diagnose(state, t, run.n_steps + 1, s.dt_tried, True), t,
                                           lambda: run.fields(state))
@@ -168,7 +168,7 @@ class single_steps:
 
     def __call__(self, state, t, dt_cfl, t_out, n_max, dt_floor) -> Stretch:
         new, dt, dt_next, record = self.step(state, t, dt_cfl, t_out)
-        if np.isnan(dt_next):
+        if not np.isfinite(dt_next):
             return Stretch(state, t, dt_next, dt, np.zeros(0), np.zeros((0, 0)), np.zeros((0, 0)))
         t_new = landed(t, dt, t_out)
         if record is None:

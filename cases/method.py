@@ -5,9 +5,9 @@ medium it runs, whether it takes a ``seed``, its frozen settings dataclass
 
 A package registers a method by naming its ``Method`` in the entry-point
 group ``partmesh.methods``; :func:`cases.run.run` finds it there. A run
-checks the settings and the memory first and imports the solver (JAX,
-numba) only then, so bad input is refused in a second, before any
-compilation.
+checks the settings and the memory first and imports the solver module
+only then (for a grid method, JAX), so bad input is refused in a second
+or two, before any compilation.
 
 The solver, ``solve(scene, settings) -> Dataset``, supplies the step
 protocol and hands it to the one time loop, :func:`cases.march.march`:

@@ -2,9 +2,10 @@
 
 Methods are found through the ``partmesh.methods`` entry-point group (as
 xarray finds its backends): ``fv = "gridref.euler.method:METHOD"`` and so
-on, each a :class:`~cases.method.Method`. No solver is imported until a
-run's settings and memory are checked, and another package can add a
-method by declaring an entry point of its own.
+on, each a :class:`~cases.method.Method`. No solver module is imported
+until a run's settings and memory are checked (the particle methods'
+settings name numba's kernels, so numba may come first), and another
+package can add a method by declaring an entry point of its own.
 """
 
 from __future__ import annotations

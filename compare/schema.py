@@ -31,13 +31,16 @@ import xarray as xr
 
 #: the entry-point group methods register in (:mod:`cases.run`), this package's and any other's
 METHOD_GROUP = "partmesh.methods"
-#: what a result's ``method`` may name besides a registered method
+#: the methods this package registers, valid where its entry points are not installed (a source tree)
+BUILT_IN = ("dsmc", "fv", "hybrid", "sph", "swe", "wcsph")
+#: what a result's ``method`` may name besides a method
 EXACT = "exact"
 
 def methods() -> tuple[str, ...]:
-    """The methods a result may name: every method registered in
-    :data:`METHOD_GROUP` (another package's too), and ``exact``."""
-    return (*sorted(ep.name for ep in metadata.entry_points(group=METHOD_GROUP)), EXACT)
+    """The methods a result may name: this package's, every method
+    registered in :data:`METHOD_GROUP` (another package's too), and
+    ``exact``."""
+    return (*sorted({*BUILT_IN, *(ep.name for ep in metadata.entry_points(group=METHOD_GROUP))}), EXACT)
 
 
 #: name -> (units, long_name) for every variable the schema knows.

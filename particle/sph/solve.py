@@ -425,6 +425,10 @@ class _Run(RunRecord):
             X, Y = np.meshgrid(scene.output.x, scene.output.y)
             self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
+    def closed(self) -> bool:
+        """No side lets gas in (particles that leave through an outflow side count as drift)."""
+        return not _has_inlet(self.scene)
+
     def totals(self, state) -> dict:
         """Total mass Σm and energy Σ m (u + |v|²/2) of the fluid particles."""
         P = state[0]

@@ -197,7 +197,7 @@ def solve(scene, settings: WCSPHSettings):
     in the other methods (:mod:`cases.checkpoint`; the neighbour lists are
     searched anew after a resume, which changes the summation order only).
     """
-    dx, t_end, cfl = settings.dx, settings.t_end, settings.cfl
+    dx, cfl = settings.dx, settings.cfl
     slice_ = flume(scene, dx, settings.damping)
     record = {**settings.record(), "damping": slice_.damping}
     deepest = float(np.max(np.asarray(scene.initial(scene.output.x, None)[0], float) - slice_.bed))
