@@ -16,12 +16,7 @@ from compare.checks import (
     positive,
 )
 
-__all__ = ["InputError", "cfl", "check_scene", "choice", "flag", "in_range", "integer", "non_negative", "number", "positive"]
-
-
-def cfl(value) -> float:
-    """A Courant number in (0, 1]."""
-    return in_range("cfl", value, 0.0, 1.0, lo_open=True)
+__all__ = ["InputError", "check_scene", "choice", "flag", "in_range", "integer", "non_negative", "number", "positive"]
 
 
 def check_scene(scene) -> None:

@@ -10,8 +10,7 @@ anything, so the solver sees only typed, checked values::
     @dataclass(frozen=True)
     class FVSettings(Settings):
         method: ClassVar[str] = "fv"
-        cfl: float = setting(0.8, lambda name, v: in_range(name, v, 0.0, 1.0, lo_open=True),
-                             "Courant number")
+        cfl: float = setting(0.8, within(0.0, 1.0, lo_open=True), "Courant number")
 
 :meth:`Settings.record` is what a result and a checkpoint keep of them:
 the settings that change what a run computes (not where it reports or
@@ -24,7 +23,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Callable, ClassVar
 
-from compare.checks import InputError, flag, positive
+from compare.checks import InputError, choice, flag, in_range, integer, positive
 
 #: settings that say how a run reports and where it checkpoints, not what it computes
 RUN_CONTROLS = ("progress", "checkpoint", "checkpoint_every", "resume", "particles")
@@ -35,6 +34,21 @@ def setting(default, check: Callable | None = None, doc: str = ""):
     (converts text, raises :class:`InputError`; not applied to None, which
     means "the method's default for the scene") and what it means."""
     return dataclasses.field(default=default, metadata={"check": check, "doc": doc})
+
+
+def within(lo: float, hi: float, **ends) -> Callable:
+    """The check of a number in [lo, hi] (``lo_open``/``hi_open`` open an end)."""
+    return lambda name, value: in_range(name, value, lo, hi, **ends)
+
+
+def one_of(options) -> Callable:
+    """The check of a name among ``options``."""
+    return lambda name, value: choice(name, value, tuple(options))
+
+
+def at_least(lo: int) -> Callable:
+    """The check of an integer ≥ ``lo``."""
+    return lambda name, value: integer(name, value, lo)
 
 
 def optional_path(name: str, value):

@@ -6,11 +6,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import cfl, choice, in_range, integer, positive
+from cases.checks import positive
 from cases.memory import elements_in, grid_cell_bytes
 from cases.method import Memory, Method
 from compare.checks import InputError
-from cases.settings import setting
+from cases.settings import at_least, one_of, setting, within
 from gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
 from hybrid.cells import SENSORS
 from particle.sph.method import SPHScheme
@@ -36,16 +36,16 @@ class HybridSettings(SPHScheme):
 
     method: ClassVar[str] = "hybrid"
 
-    beta: float = setting(0.25, lambda name, value: in_range(name, value, 0.0, 1.0, lo_open=True),
+    beta: float = setting(0.25, within(0.0, 1.0, lo_open=True),
                           "particle spacing over cell width, 1/k")
     threshold: float = setting(0.05, positive, "relative jump that gives a cell particles, > 0")
-    sensor: str = setting("rho,p", lambda name, value: choice(name, value, SENSORS), "what the jump is of")
-    buffer: int = setting(2, lambda name, value: integer(name, value, 0), "cells added around flagged ones, at least 0")
-    cfl: float = setting(0.8, lambda name, value: cfl(value), "the grid's Courant number in (0, 1]")
-    cfl_sph: float = setting(0.25, lambda name, value: in_range(name, value, 0.0, 1.0, lo_open=True),
+    sensor: str = setting("rho,p", one_of(SENSORS), "what the jump is of")
+    buffer: int = setting(2, at_least(0), "cells added around flagged ones, at least 0")
+    cfl: float = setting(0.8, within(0.0, 1.0, lo_open=True), "the grid's Courant number in (0, 1]")
+    cfl_sph: float = setting(0.25, within(0.0, 1.0, lo_open=True),
                              "the particles' Courant number in (0, 1]")
-    limiter: str = setting("mc", lambda name, value: choice(name, value, LIMITER_NAMES), "the grid's slope limiter")
-    riemann: str = setting("hllc", lambda name, value: choice(name, value, RIEMANN_NAMES), "the grid's Riemann solver")
+    limiter: str = setting("mc", one_of(LIMITER_NAMES), "the grid's slope limiter")
+    riemann: str = setting("hllc", one_of(RIEMANN_NAMES), "the grid's Riemann solver")
 
     @property
     def per_cell(self) -> int:

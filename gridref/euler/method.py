@@ -6,10 +6,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import cfl, choice
 from cases.memory import elements_in, grid_cell_bytes
 from cases.method import Memory, Method
-from cases.settings import Settings, setting
+from cases.settings import Settings, one_of, setting, within
 
 #: the slope limiters of :mod:`gridref.euler.reconstruct` and the Riemann solvers of :mod:`gridref.euler.riemann`
 LIMITER_NAMES = ("minmod", "mc", "vanleer", "superbee", "first_order")
@@ -24,9 +23,9 @@ class FVSettings(Settings):
 
     method: ClassVar[str] = "fv"
 
-    cfl: float = setting(0.8, lambda name, value: cfl(value), "Courant number in (0, 1]")
-    limiter: str = setting("mc", lambda name, value: choice(name, value, LIMITER_NAMES), "slope limiter")
-    riemann: str = setting("hllc", lambda name, value: choice(name, value, RIEMANN_NAMES), "Riemann solver")
+    cfl: float = setting(0.8, within(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
+    limiter: str = setting("mc", one_of(LIMITER_NAMES), "slope limiter")
+    riemann: str = setting("hllc", one_of(RIEMANN_NAMES), "Riemann solver")
 
 
 def memory(scene, settings: FVSettings) -> Memory:

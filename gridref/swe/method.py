@@ -6,10 +6,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import choice, in_range
 from cases.memory import elements_in, grid_cell_bytes
 from cases.method import Memory, Method
-from cases.settings import Settings, setting
+from cases.settings import Settings, one_of, setting, within
 from gridref.euler.method import LIMITER_NAMES
 
 #: the array precisions of :data:`gridref.swe.step.PRECISIONS`
@@ -27,10 +26,10 @@ class SWESettings(Settings):
 
     method: ClassVar[str] = "swe"
 
-    cfl: float = setting(0.25, lambda name, value: in_range(name, value, 0.0, 0.5, lo_open=True),
+    cfl: float = setting(0.25, within(0.0, 0.5, lo_open=True),
                          "Courant number in (0, 0.5]")
-    limiter: str = setting("mc", lambda name, value: choice(name, value, LIMITER_NAMES), "slope limiter")
-    precision: str = setting("float64", lambda name, value: choice(name, value, PRECISION_NAMES), "array precision")
+    limiter: str = setting("mc", one_of(LIMITER_NAMES), "slope limiter")
+    precision: str = setting("float64", one_of(PRECISION_NAMES), "array precision")
 
 
 def memory(scene, settings: SWESettings) -> Memory:

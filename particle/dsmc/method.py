@@ -7,11 +7,11 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import choice, in_range, integer, positive
+from cases.checks import positive
 from cases.errors import InputError, Unsupported
 from cases.memory import elements_in
 from cases.method import Memory, Method
-from cases.settings import Settings, setting
+from cases.settings import Settings, at_least, one_of, setting, within
 
 #: what happens in a cell over a step: the equilibrium redraw, or VHS collisions with Larsen–Borgnakke exchange
 COLLISIONS = ("equilibrium", "larsen-borgnakke")
@@ -37,16 +37,16 @@ class DSMCSettings(Settings):
 
     method: ClassVar[str] = "dsmc"
 
-    ppc: int = setting(30, lambda name, value: integer(name, value, 1), "particles per cell, at least 1")
-    cfl: float = setting(1.0, lambda name, value: in_range(name, value, 0.0, 1.0, lo_open=True),
+    ppc: int = setting(30, at_least(1), "particles per cell, at least 1")
+    cfl: float = setting(1.0, within(0.0, 1.0, lo_open=True),
                          "Courant number in (0, 1]")
-    seed: int = setting(0, lambda name, value: integer(name, value, 0), "random seed, at least 0")
-    window: int = setting(1, lambda name, value: integer(name, value, 1), "steps averaged into a frame, at least 1")
-    collisions: str = setting("equilibrium", lambda name, value: choice(name, value, COLLISIONS), "collision model")
+    seed: int = setting(0, at_least(0), "random seed, at least 0")
+    window: int = setting(1, at_least(1), "steps averaged into a frame, at least 1")
+    collisions: str = setting("equilibrium", one_of(COLLISIONS), "collision model")
     mean_free_path: float | None = setting(None, positive, "mean free path at the lowest initial density [m]")
-    omega: float = setting(0.74, lambda name, value: in_range(name, value, 0.5, 1.0),
+    omega: float = setting(0.74, within(0.5, 1.0),
                            "VHS viscosity exponent, in [0.5, 1]")
-    z_rot: float = setting(5.0, lambda name, value: in_range(name, value, 1.0, math.inf),
+    z_rot: float = setting(5.0, within(1.0, math.inf),
                            "rotational collision number, at least 1")
 
     def check_together(self, scene) -> None:

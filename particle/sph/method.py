@@ -6,11 +6,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import choice, in_range
 from cases.memory import elements_in, particle_bytes
 from cases.method import Memory, Method
 from cases.scene import Inflow
-from cases.settings import Settings, optional_path, setting
+from cases.settings import Settings, one_of, optional_path, setting, within
 from compare.checks import InputError
 from particle.kernels import KERNELS
 
@@ -19,9 +18,9 @@ from particle.kernels import KERNELS
 MASSES = ("equal", "lattice")
 
 
-def _from(lo, hi, **ends):
-    """The check of a number in [lo, hi] (ends open where asked)."""
-    return lambda name, value: in_range(name, value, lo, hi, **ends)
+def has_inlet(scene) -> bool:
+    """Whether a side of ``scene`` lets gas in."""
+    return any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
 
 
 @dataclass(frozen=True)
@@ -32,11 +31,11 @@ class SPHScheme(Settings):
     bounds of the Cullen–Dehnen viscosity, ``alpha_u`` the ceiling of the
     conduction coefficient's switch."""
 
-    kernel: str = setting("wendland_c6", lambda name, value: choice(name, value, tuple(KERNELS)), "SPH kernel")
-    eta: float = setting(4.0, _from(1.0, 8.0), "support radius in local spacings, in [1, 8]")
-    alpha_max: float = setting(2.5, _from(0.0, 10.0), "ceiling of the viscosity switch, in [0, 10]")
-    alpha_min: float = setting(0.0, _from(0.0, 10.0), "floor of the viscosity switch, in [0, 10]")
-    alpha_u: float = setting(1.0, _from(0.0, 10.0), "ceiling of the conduction switch, in [0, 10]")
+    kernel: str = setting("wendland_c6", one_of(KERNELS), "SPH kernel")
+    eta: float = setting(4.0, within(1.0, 8.0), "support radius in local spacings, in [1, 8]")
+    alpha_max: float = setting(2.5, within(0.0, 10.0), "ceiling of the viscosity switch, in [0, 10]")
+    alpha_min: float = setting(0.0, within(0.0, 10.0), "floor of the viscosity switch, in [0, 10]")
+    alpha_u: float = setting(1.0, within(0.0, 10.0), "ceiling of the conduction switch, in [0, 10]")
 
 
 @dataclass(frozen=True)
@@ -49,12 +48,12 @@ class SPHSettings(SPHScheme):
 
     method: ClassVar[str] = "sph"
 
-    cfl: float = setting(0.25, _from(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
-    masses: str = setting("equal", lambda name, value: choice(name, value, MASSES), "initial particle masses")
+    cfl: float = setting(0.25, within(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
+    masses: str = setting("equal", one_of(MASSES), "initial particle masses")
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
 
     def check_together(self, scene) -> None:
-        if self.masses == "lattice" and any(isinstance(scene.boundaries[s], Inflow) for s in scene.sides):
+        if self.masses == "lattice" and has_inlet(scene):
             raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
 
 

@@ -31,7 +31,7 @@ from particle.sph.forces import rates
 from particle.sph.inflow import InflowBuffer
 from particle.sph.integrator import MIN_STEP_FRACTION, SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
 from particle.sph.lists import PerParticle, VerletLists
-from particle.sph.method import SPHSettings
+from particle.sph.method import SPHSettings, has_inlet
 from particle.sph.particles import (
     check_supported,
     extended_domain,
@@ -128,7 +128,7 @@ class GasSPH:
         (not out through an outflow side, nor pushed back upstream of the
         inlet); None where none can leave (no outflow side, no inlet: the
         walls keep every particle in)."""
-        if not self.verlet.open and not _has_inlet(self.scene):
+        if not self.verlet.open and not has_inlet(self.scene):
             return None
         return in_box(x, self.region)
 
@@ -308,11 +308,6 @@ def solve(scene, settings: SPHSettings):
                            lambda state, t: _snapshot(sph, state[0], inflow, t))
 
 
-def _has_inlet(scene) -> bool:
-    """Whether a side of ``scene`` lets gas in."""
-    return any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
-
-
 def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
     """The particles at time ``t`` (SPEC §2): fluid, the walls' virtual
     particles and the inflow buffer, with their kind."""
@@ -427,7 +422,7 @@ class _Run(RunRecord):
 
     def closed(self) -> bool:
         """No side lets gas in (particles that leave through an outflow side count as drift)."""
-        return not _has_inlet(self.scene)
+        return not has_inlet(self.scene)
 
     def totals(self, state) -> dict:
         """Total mass Σm and energy Σ m (u + |v|²/2) of the fluid particles."""

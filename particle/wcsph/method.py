@@ -6,15 +6,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import in_range, positive
+from cases.checks import positive
 from cases.memory import elements_in, particle_bytes
 from cases.method import Memory, Method
-from cases.settings import Settings, optional_path, setting
-
-
-def _from(lo, hi, **ends):
-    """The check of a number in [lo, hi] (ends open where asked)."""
-    return lambda name, value: in_range(name, value, lo, hi, **ends)
+from cases.settings import Settings, optional_path, setting, within
 
 
 @dataclass(frozen=True)
@@ -32,11 +27,11 @@ class WCSPHSettings(Settings):
 
     method: ClassVar[str] = "wcsph"
 
-    cfl: float = setting(0.2, _from(0.0, 0.4, lo_open=True), "Courant number in (0, 0.4]")
-    c0: float = setting(10.0, _from(3.0, 40.0), "sound speed in units of sqrt(g d_max), in [3, 40]")
-    alpha: float = setting(0.01, _from(0.0, 1.0), "Monaghan viscosity, in [0, 1]")
-    delta: float = setting(0.1, _from(0.0, 1.0), "density-diffusion coefficient, in [0, 1]")
-    eta: float = setting(4.0, _from(2.0, 4.0), "kernel support in units of dx, in [2, 4]")
+    cfl: float = setting(0.2, within(0.0, 0.4, lo_open=True), "Courant number in (0, 0.4]")
+    c0: float = setting(10.0, within(3.0, 40.0), "sound speed in units of sqrt(g d_max), in [3, 40]")
+    alpha: float = setting(0.01, within(0.0, 1.0), "Monaghan viscosity, in [0, 1]")
+    delta: float = setting(0.1, within(0.0, 1.0), "density-diffusion coefficient, in [0, 1]")
+    eta: float = setting(4.0, within(2.0, 4.0), "kernel support in units of dx, in [2, 4]")
     damping: float | None = setting(None, positive, "length of the damping zone [m]")
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
 
