@@ -19,7 +19,7 @@ import time
 import numpy as np
 from clawpack import pyclaw, riemann
 
-from cases.bench import throughput
+from partmesh.bench import throughput
 
 T_END = 0.05
 

@@ -4,7 +4,7 @@ rho, u, p = 1, 0, 1, right 0.125, 0, 0.1, gamma = 1.4, outflow
 (extrapolating) boundaries, to t = 0.2 s) on N = 100, 200, 400, 800 cells:
 solver seconds (best of 5; compile and set-up time excluded), steps, and
 L1(rho) at t = 0.2 against the exact Riemann solution
-(:func:`compare.exact.riemann`).
+(:func:`partmesh.compare.exact.riemann`).
 
 Clawpack (``pip install clawpack``, which builds its Fortran with gfortran):
 PyClaw's classic Fortran solver (``ClawSolver1D``, second order, Roe solver
@@ -18,12 +18,12 @@ compilation and first-call costs stay out; its time is the result's
 includes stopping at the scene's extra output time t = 0.1 (one shortened
 step, a frame and probe sampling), which Clawpack does not have.
 
-L1(rho) is :func:`compare.metrics.field_error`'s, the cell-width-weighted
+L1(rho) is :func:`partmesh.compare.metrics.field_error`'s, the cell-width-weighted
 mean sum_i |rho_i - rho_exact(x_i)| dx / sum_i dx (on a uniform grid the
 plain mean over cells), the exact solution taken at the cell centres. Both
 codes are measured on their own N cells (``fv`` runs ``sod`` with
 ``nx_out = N`` so its output grid is its solver grid). ``fv L1 @400`` is
-the error as ``partmesh bench`` (``cases.bench.time_to_accuracy``) measures
+the error as ``partmesh bench`` (``partmesh.bench.time_to_accuracy``) measures
 it: the default scene's 400-cell output grid, onto which ``fv`` moves its
 N-cell result (linear interpolation for N = 100, 200; the 2-cell average
 for N = 800). The JSON records also hold both codes' L1(rho) against the
@@ -47,9 +47,9 @@ import xarray as xr
 from clawpack import pyclaw, riemann
 from clawpack.riemann.euler_with_efix_1D_constants import density, energy, momentum, num_eqn
 
-import cases
-from compare import exact
-from compare.metrics import field_error
+import partmesh
+from partmesh.compare import exact
+from partmesh.compare.metrics import field_error
 
 SIZES = (100, 200, 400, 800)
 LEFT, RIGHT, X0, GAMMA, T_END = (1.0, 0.0, 1.0), (0.125, 0.0, 0.1), 0.5, 1.4, 0.2
@@ -58,7 +58,7 @@ LEFT, RIGHT, X0, GAMMA, T_END = (1.0, 0.0, 1.0), (0.125, 0.0, 0.1), 0.5, 1.4, 0.
 def scene(n: int | None = None):
     """The ``sod`` scene (its defaults are the problem above), with an
     ``n``-cell output grid if ``n`` is given."""
-    s = cases.get("sod") if n is None else cases.get("sod", nx_out=n)
+    s = partmesh.scene("sod") if n is None else partmesh.scene("sod", nx_out=n)
     p = s.parameters
     assert ((p["left_rho"], p["left_u"], p["left_p"]), (p["right_rho"], p["right_u"], p["right_p"]),
             p["x0"], p["gamma"], s.t_end) == (LEFT, RIGHT, X0, GAMMA, T_END), "the sod scene's defaults changed"
@@ -130,12 +130,12 @@ def fv_run(n: int, repeat: int) -> dict:
     steps, compile seconds and L1(rho) on its own grid and on the default
     400-cell output grid (as ``partmesh bench`` measures it)."""
     native = scene(n)
-    cases.run(native, "fv", dx=1.0 / n, progress=False)  # warm-up at this size: first-call costs are not the method's
-    runs = [cases.run(native, "fv", dx=1.0 / n, progress=False) for _ in range(repeat)]
+    partmesh.run(native, "fv", dx=1.0 / n, progress=False)  # warm-up at this size: first-call costs are not the method's
+    runs = [partmesh.run(native, "fv", dx=1.0 / n, progress=False) for _ in range(repeat)]
     ds = min(runs, key=lambda r: r.attrs["wall_seconds"])
     assert ds.sizes["x"] == n and np.isclose(ds.time.values[-1], T_END)
     bench_scene = scene()
-    bench = cases.run(bench_scene, "fv", dx=1.0 / n, progress=False)  # (untimed: only its error is used)
+    bench = partmesh.run(bench_scene, "fv", dx=1.0 / n, progress=False)  # (untimed: only its error is used)
     return {"seconds": ds.attrs["wall_seconds"], "all_seconds": [r.attrs["wall_seconds"] for r in runs],
             "steps": int(ds.attrs["n_steps"]),
             "compile_seconds": min(r.attrs["compile_seconds"] for r in runs),

@@ -1,16 +1,8 @@
-"""Scenes (geometry, initial and boundary conditions, probes, output grid),
-the method runner and the command line.
+"""Scenes (geometry, initial and boundary conditions, probes, output grid)
+and the run machinery every method shares: the run record and its history,
+the one time loop (:mod:`partmesh.cases.march`), checkpoints, the method
+contract (:mod:`partmesh.cases.method`) and its settings.
 
-``cases.get(name, **overrides)`` returns a scene; ``cases.names()`` lists
-them; ``cases.run(scene, method, ...)`` runs one with any registered method.
+Scenes are found by name through :mod:`partmesh.cases.registry`; users reach
+them as :func:`partmesh.scene` and :func:`partmesh.scenes`.
 """
-
-from cases.errors import InputError, SolverFailed
-from cases.registry import defaults, get, names
-from cases.run import methods, run
-from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-
-__all__ = [
-    "InputError", "Inflow", "OutputGrid", "Probe", "Scene", "SolverFailed", "Wall",
-    "defaults", "get", "methods", "names", "run",
-]

@@ -6,11 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases import checks, shapes
-from cases.shapes import disc_density, disc_fraction
-from cases.registry import scene_builder
-from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from compare import exact, metrics
+from partmesh.cases import checks, shapes
+from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
+from partmesh.cases.shapes import disc_density, disc_fraction
+from partmesh.compare import exact, metrics
 
 NEGATIVE_PHASE = ("friedlander", "none")
 
@@ -42,7 +41,7 @@ def blast_inflow(blast, negative_phase, rho0, p0, gamma) -> Inflow:
 def wall_load_metrics(ds, p0) -> dict:
     """Peak wall pressure (raw and extrapolated to arrival) and arrival time
     at the wall probe ``w``, peak wall force (raw and extrapolated to its
-    arrival the same way: :func:`compare.metrics.peak`), and the wall
+    arrival the same way: :func:`partmesh.compare.metrics.peak`), and the wall
     impulse at the final time.
 
     The raw peaks carry the start-up spike of a captured shock reflecting
@@ -62,7 +61,7 @@ def wall_load_metrics(ds, p0) -> dict:
 
 
 def _peak_or_nan(series, baseline) -> dict:
-    """:func:`compare.metrics.peak` of ``series``, or NaN for every value
+    """:func:`partmesh.compare.metrics.peak` of ``series``, or NaN for every value
     where it cannot be read (a run that ends before the blast has loaded
     the wall long enough for the fit)."""
     try:
@@ -88,7 +87,7 @@ def _blast_channel(name, parameters, blast, negative_phase, rho0, p0, gamma, dom
     resolution, probes ``u``, ``d`` upstream and downstream at 0.35 and 0.85
     of the length and ``w`` on the wall, at ``probe_y`` (default
     mid-channel; ``height``: the channel's, whose wall the force acts on);
-    ``tiles``: see :class:`~cases.scene.Scene`."""
+    ``tiles``: see :class:`~partmesh.cases.scene.Scene`."""
     dim, length = len(domain), domain[0][1]
     dx = 1e-3
     shape = tuple(int(round((hi - lo) / dx)) for lo, hi in domain)
@@ -108,7 +107,6 @@ def _blast_channel(name, parameters, blast, negative_phase, rho0, p0, gamma, dom
     )
 
 
-@scene_builder("blast_wall")
 def blast_wall(blast="moderate", negative_phase="friedlander", dim=1, rho0=1.0, p0=1.0e5, gamma=1.4,
                length=1.0, height=0.12, t_end=None):
     """A Friedlander blast enters at x = 0 and loads a rigid wall at x = length (no obstacles)."""
@@ -138,7 +136,7 @@ def array_rods(shape, arrangement, rows, layers, column_pitch, size, standoff, t
     shifted by half a pitch, to y = k ``ROW_PITCH``, and its rods at y = 0
     and y = W = ``rows`` ``ROW_PITCH`` are the two halves of one rod cut by
     the periodic sides (both listed). Every shape has the frontal extent
-    ``size`` (:data:`cases.shapes.SHAPES`), so the blockage is
+    ``size`` (:data:`partmesh.cases.shapes.SHAPES`), so the blockage is
     ``size/ROW_PITCH`` for all of them."""
     make = shapes.SHAPES[shape]
     centres = column_pitch * np.arange(layers, dtype=float)
@@ -153,7 +151,6 @@ def array_rods(shape, arrangement, rows, layers, column_pitch, size, standoff, t
     return rods
 
 
-@scene_builder("blast_array")
 def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_pitch=0.04, size=0.0267,
                 standoff=0.34, trap_gap=0.0, blast="moderate", negative_phase="friedlander", rho0=1.0, p0=1.0e5,
                 gamma=1.4, length=1.0, t_end=None, one_period=False):
@@ -207,7 +204,6 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
 KILOTON = 4.184e12
 
 
-@scene_builder("blast_kt")
 def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, half_width=None, t_end=1e-3,
              n_out=300):
     """A large planar (cylindrical) explosion in air: a cylinder of radius
@@ -255,7 +251,7 @@ def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, ha
 
 def blast_front(ds, p0) -> dict:
     """Shock radius (outermost crossing of half the overpressure of the
-    outermost wave of the ring-averaged pressure, :func:`compare.metrics.shock_radius`
+    outermost wave of the ring-averaged pressure, :func:`partmesh.compare.metrics.shock_radius`
     with ``method="front"``: early on the dense core's gas holds more
     pressure than the air shock ahead of it) and peak ring-averaged density at every
     output time, as lists, and at the last one. The radius is NaN at a

@@ -34,8 +34,9 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from cases.checks import flag, positive
-from cases.errors import InputError
+from partmesh.cases.checks import flag, positive
+from partmesh.cases.errors import InputError
+from partmesh.compare.schema import version
 
 #: the layout of a checkpoint's state: a checkpoint of another layout is refused, not half-read
 #: (2: the run record keeps the initial totals and, for dsmc, the moments of the frame under way)
@@ -94,7 +95,6 @@ def watch_signals_for_runs() -> bool:
 class Interrupted(Exception):
     """A SIGINT or SIGTERM that arrived while this process waited for runs
     going on elsewhere; ``signal`` is its name."""
-
     def __init__(self, name: str):
         super().__init__(f"stopped by {name}")
         self.signal = name
@@ -123,7 +123,6 @@ def signals_raised():
 class Checkpoint:
     """The checkpoint file of one run (``path`` None: none is written, but
     SIGINT/SIGTERM still stop the run cleanly between steps)."""
-
     def __init__(self, path=None, every: float = 600.0, resume: bool = False, identity: dict | None = None):
         self.path = Path(path) if path is not None else None
         self.every = positive("checkpoint_every", every)
@@ -139,7 +138,7 @@ class Checkpoint:
 
     def saved_state(self, run):
         """The solver state saved by an earlier run with the same identity,
-        with the run's record (a :class:`cases.history.RunRecord`) restored
+        with the run's record (a :class:`partmesh.cases.history.RunRecord`) restored
         from it; None if not resuming. Refuses a missing file or another
         run's."""
         if not self.resume:
@@ -204,10 +203,8 @@ class Checkpoint:
 
 def checkpoint_for(scene, settings) -> Checkpoint:
     """The :class:`Checkpoint` of a run of ``scene`` with ``settings`` (a
-    :class:`~cases.settings.Settings`): its file, period and resume flag,
+    :class:`~partmesh.cases.settings.Settings`): its file, period and resume flag,
     and the run's identity (scene, method, the settings it computes with)."""
-    from compare.schema import version
-
     identity = {"version": version(), "format": FORMAT, "scene": scene.to_dict(), "method": settings.method,
                 "settings": settings.record()}
     return Checkpoint(settings.checkpoint, settings.checkpoint_every, settings.resume, identity)

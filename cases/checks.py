@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from compare.checks import (
+from partmesh.cases.parts import Inflow
+from partmesh.cases.shapes import overlaps
+from partmesh.compare.checks import (
     InputError,
     choice,
     flag,
@@ -21,8 +23,6 @@ __all__ = ["InputError", "check_scene", "choice", "flag", "in_range", "integer",
 
 def check_scene(scene) -> None:
     """Consistency of a whole scene: domain, boundaries, output times, probes."""
-    from cases.scene import Inflow
-
     if scene.dim not in (1, 2) or len(scene.domain) != scene.dim:
         raise InputError(f"scene {scene.name}: dim must be 1 or 2 with one (lo, hi) pair per axis.")
     for axis, (lo, hi) in zip("xy", scene.domain):
@@ -53,8 +53,6 @@ def check_scene(scene) -> None:
         for shape in scene.obstacles:
             if shape.signed_distance(np.array(probe.x), np.array(probe.y)) < 0:
                 raise InputError(f"probe {probe.name!r} at ({probe.x:g}, {probe.y:g}) lies inside a solid obstacle.")
-    from cases.shapes import overlaps
-
     for i, a in enumerate(scene.obstacles):
         for j in range(i + 1, len(scene.obstacles)):
             if overlaps(a, scene.obstacles[j]):
@@ -77,8 +75,6 @@ def check_obstacles(scene, dx: float) -> None:
     side (the inflow buffer carries no solid); one cut by a periodic side
     whose other part, the same shape shifted by one period, is not listed
     (the gas would flow through the missing half)."""
-    from cases.scene import Inflow
-
     if scene.obstacles and scene.dim != 2:
         raise InputError(f"scene {scene.name}: obstacles need dim = 2.")
     for i, shape in enumerate(scene.obstacles):

@@ -5,18 +5,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases import checks
-from cases.registry import scene_builder
-from cases.scene import OutputGrid, Probe, Scene, Wall
-from cases.shapes import polygon
-from cases.verification import AIR
-from compare import exact
+from partmesh.cases import checks
+from partmesh.cases.scene import OutputGrid, Probe, Scene, Wall
+from partmesh.cases.shapes import polygon
+from partmesh.cases.verification import AIR
+from partmesh.compare import exact
 
 
-@scene_builder("balloon_box")
 def balloon_box(Ms=1.2, radius=0.05, side=0.5, rho0=AIR["rho0"], p0=AIR["p0"], t_end=2e-3, gamma=1.4):
     """A balloon of hot gas (the ambient density, the pressure of the driver
-    of a Mach ``Ms`` shock, :func:`compare.exact.driver_pressure`) bursts at
+    of a Mach ``Ms`` shock, :func:`partmesh.compare.exact.driver_pressure`) bursts at
     the centre of a closed square box; the shock reflects from the walls and
     focuses in the corners. Measured: the load on the x_hi wall."""
     Ms = checks.in_range("Ms", Ms, 1.0, 5.0, lo_open=True)
@@ -48,7 +46,6 @@ def balloon_box(Ms=1.2, radius=0.05, side=0.5, rho0=AIR["rho0"], p0=AIR["p0"], t
     )
 
 
-@scene_builder("shock_cavity")
 def shock_cavity(Ms=1.5, width=0.05, depth=0.05, height=0.1, length=0.3, x_cavity=0.1, rho0=AIR["rho0"],
                  p0=AIR["p0"], t_end=5e-4, gamma=1.4):
     """A planar shock of Mach ``Ms`` runs along a channel of ``height`` over a

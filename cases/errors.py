@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from compare.checks import InputError
+from partmesh.compare.checks import InputError
 
 __all__ = ["InputError", "SolverFailed", "Unsupported"]
 

@@ -17,11 +17,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import xarray as xr
-
 from tqdm.auto import tqdm
 
-from cases.errors import SolverFailed
-from compare.schema import result
+from partmesh.cases.errors import SolverFailed
+from partmesh.compare.schema import result, source_revision
 
 
 @dataclass
@@ -92,8 +91,9 @@ class RunRecord(ABC):
         self.scene, self.method, self.settings = scene, method, settings
         self.compile_seconds, self.history = compile_seconds, history
         self.frames, self.frame_times, self.frame_seconds, self.n_steps = [], [], [], 0
+        source_revision()  # (the revision of the code this run loaded, read now, before the tree can change)
         self.t_start = _time.perf_counter()
-        #: the last good state of the run and its time (:func:`cases.march.march` keeps them)
+        #: the last good state of the run and its time (:func:`partmesh.cases.march.march` keeps them)
         self.state, self.t = None, 0.0
         #: the conserved totals of the initial state (:meth:`totals`)
         self.totals0 = None

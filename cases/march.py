@@ -7,7 +7,7 @@ when a step turns the state non-physical or the time step collapses.
 A method supplies the stretch: a callable ``advance(state, t, dt_cfl,
 t_out, n_max, dt_floor) -> Stretch`` that takes up to ``n_max`` steps
 toward ``t_out`` (the grid methods: a whole stretch in one compiled loop
-on the device, :mod:`gridref.device_loop`; the particle methods and the
+on the device, :mod:`partmesh.gridref.device_loop`; the particle methods and the
 hybrid, which step on the host: one step, :class:`single_steps`). The host sees the state once per stretch;
 a stretch is sized to about :data:`STRETCH_SECONDS` of work, so the
 progress bar, checkpoints and stop requests are served about once a
@@ -102,11 +102,11 @@ def march(run, state, t: float, dt_cfl: float, advance: Callable, ckpt, saved_st
     ``state`` (``inf`` where a method's step finds its own). A step that
     raises :class:`StepFailed`, turns the state non-physical (NaN stable
     step) or lets the stable step collapse below ``DT_FLOOR · t_end`` stops
-    the run: :class:`~cases.errors.SolverFailed` carries the result up to
+    the run: :class:`~partmesh.cases.errors.SolverFailed` carries the result up to
     the last good state, with the step's message or ``diagnose(state, t,
     step, dt, failed) -> str``, one sentence on when, where and what (the
     step ``dt`` made the state non-physical: ``failed``; or the stable step
-    collapsed to ``dt``). ``ckpt`` (:mod:`cases.checkpoint`) saves
+    collapsed to ``dt``). ``ckpt`` (:mod:`partmesh.cases.checkpoint`) saves
     ``saved_state(state, t, dt_cfl)`` (a dict) between stretches.
     """
     diagnose, t_end = diagnose or _collapsed, settings.t_end

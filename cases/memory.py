@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import os
 
-from cases.errors import InputError
+from partmesh.cases.errors import InputError
 
 #: bytes in a GiB
 GIB = 2.0**30

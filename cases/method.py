@@ -1,25 +1,25 @@
 """The contract every method keeps (SPEC §1), in the style of PyClaw's
 ``Solver`` and PySPH's ``Scheme``: a :class:`Method` declares its name, the
 medium it runs, whether it takes a ``seed``, its frozen settings dataclass
-(:mod:`cases.settings`), the memory a run needs and where its solver lives.
+(:mod:`partmesh.cases.settings`), the memory a run needs and where its solver lives.
 
 A package registers a method by naming its ``Method`` in the entry-point
-group ``partmesh.methods``; :func:`cases.run.run` finds it there. A run
+group ``partmesh.methods``; :func:`partmesh.dispatch.run` finds it there. A run
 checks the settings and the memory first and imports the solver module
 only then (for a grid method, JAX), so bad input is refused in a second
 or two, before any compilation.
 
 The solver, ``solve(scene, settings) -> Dataset``, supplies the step
-protocol and hands it to the one time loop, :func:`cases.march.march`:
+protocol and hands it to the one time loop, :func:`partmesh.cases.march.march`:
 
-- its record, a :class:`cases.history.RunRecord` subclass: the fields of a
+- its record, a :class:`partmesh.cases.history.RunRecord` subclass: the fields of a
   state on the scene's output grid (``fields``), its conserved totals
   (``totals``), the scheme and attributes of the result (``output``);
 - the initial state, its time and stable step (a resumed run takes them
-  from :class:`cases.checkpoint.Checkpoint`);
+  from :class:`partmesh.cases.checkpoint.Checkpoint`);
 - ``advance``: a stretch of steps with its probe values and side forces
-  (:class:`cases.march.Stretch`) — compiled on the device for a grid
-  method, one host step for the others (:class:`cases.march.single_steps`);
+  (:class:`partmesh.cases.march.Stretch`) — compiled on the device for a grid
+  method, one host step for the others (:class:`partmesh.cases.march.single_steps`);
 - ``saved_state``: what a checkpoint keeps of a state, and ``diagnose``:
   the one sentence a failed step ends with.
 """
@@ -30,8 +30,8 @@ import importlib
 from dataclasses import dataclass
 from typing import Callable
 
-from cases.memory import check_fits
-from cases.settings import Settings
+from partmesh.cases.memory import check_fits
+from partmesh.cases.settings import Settings
 
 
 @dataclass(frozen=True)

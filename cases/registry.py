@@ -1,57 +1,59 @@
-"""The scene registry: ``get(name, **overrides)``, ``names()``, ``defaults(name)``.
+"""The registry of scenes and methods: ``get(name, **overrides)``,
+``names()``, ``defaults(name)`` for scenes, ``methods()`` and
+``method(name)`` for methods.
 
 A scene builder is a function whose keyword defaults are the scene's
-parameters; it validates them and returns a :class:`~cases.scene.Scene`.
-Registering it with :func:`scene_builder` makes it available by name.
+parameters; it validates them and returns a :class:`~partmesh.cases.scene.Scene`.
+Builders are found through the entry-point group :data:`SCENE_GROUP` (as
+xarray finds its backends): ``sod = "partmesh.cases.verification:sod"`` and
+so on, so another package adds a scene by declaring an entry point of its
+own, and no scene module is imported until its scene is asked for.
+Methods are found the same way through :data:`~partmesh.compare.schema.METHOD_GROUP`
+(``fv = "partmesh.gridref.euler.method:METHOD"``), each a
+:class:`~partmesh.cases.method.Method`: loading one imports its settings,
+not its solver (JAX, numba), which waits until a run's settings and memory
+are checked.
 """
 
 from __future__ import annotations
 
 import inspect
+from importlib.metadata import entry_points
 from typing import Callable
 
-from cases.checks import flag
-from cases.errors import InputError
+from partmesh.cases.checks import flag
+from partmesh.cases.errors import InputError
+from partmesh.cases.method import Method
+from partmesh.compare.schema import METHOD_GROUP
 
-_BUILDERS: dict[str, Callable] = {}
-
-
-def scene_builder(name: str):
-    """Decorator: register ``builder`` as the scene ``name``."""
-
-    def register(builder):
-        _BUILDERS[name] = builder
-        return builder
-
-    return register
+SCENE_GROUP = "partmesh.scenes"
 
 
-def _load():
-    # the scene modules register themselves on import
-    from cases import blast, dsmc_study, verification, water  # noqa: F401
+def _entry_points() -> dict:
+    return {ep.name: ep for ep in entry_points(group=SCENE_GROUP)}
 
 
 def names() -> list[str]:
     """Names of all registered scenes."""
-    _load()
-    return sorted(_BUILDERS)
+    return sorted(_entry_points())
 
 
-def _builder(name: str) -> Callable:
-    _load()
-    if name not in _BUILDERS:
-        raise InputError(f"unknown case {name!r}; known cases: {', '.join(sorted(_BUILDERS))}.")
-    return _BUILDERS[name]
+def builder(name: str) -> Callable:
+    """The builder function of scene ``name``."""
+    found = _entry_points()
+    if name not in found:
+        raise InputError(f"unknown case {name!r}; known cases: {', '.join(sorted(found))}.")
+    return found[name].load()
 
 
 def defaults(name: str) -> dict:
     """The parameters of scene ``name`` with their default values."""
-    return {k: p.default for k, p in inspect.signature(_builder(name)).parameters.items()}
+    return {k: p.default for k, p in inspect.signature(builder(name)).parameters.items()}
 
 
 def describe(name: str) -> str:
     """First line of the scene's docstring."""
-    return (inspect.getdoc(_builder(name)) or "").splitlines()[0]
+    return (inspect.getdoc(builder(name)) or "").splitlines()[0]
 
 
 def _coerce(name: str, key: str, value, default):
@@ -75,10 +77,23 @@ def _coerce(name: str, key: str, value, default):
 
 def get(name: str, **overrides):
     """The scene ``name`` with ``overrides`` applied (every one validated)."""
-    builder = _builder(name)
-    params = defaults(name)
+    build = builder(name)
+    params = {k: p.default for k, p in inspect.signature(build).parameters.items()}
     unknown = sorted(set(overrides) - set(params))
     if unknown:
         raise InputError(f"case {name} has no parameter {unknown[0]!r}; parameters: {', '.join(params)}.")
     values = {k: _coerce(name, k, v, params[k]) for k, v in overrides.items()}
-    return builder(**values)
+    return build(**values)
+
+
+def methods() -> dict:
+    """Registered methods: name -> entry point."""
+    return {ep.name: ep for ep in entry_points(group=METHOD_GROUP)}
+
+
+def method(name: str) -> Method:
+    """The :class:`~partmesh.cases.method.Method` registered as ``name``."""
+    available = methods()
+    if name not in available:
+        raise InputError(f"unknown method {name!r}; available methods: {', '.join(sorted(available)) or 'none'}.")
+    return available[name].load()

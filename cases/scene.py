@@ -13,88 +13,19 @@ from typing import Callable
 
 import numpy as np
 
-from cases.errors import InputError
+from partmesh.cases.checks import check_scene, choice, in_range, positive
+from partmesh.cases.errors import InputError
+from partmesh.cases.parts import Inflow, OutputGrid, Probe, Wall
 
 SIDES = ("x_lo", "x_hi", "y_lo", "y_hi")
 BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
 
-
-@dataclass(frozen=True)
-class Inflow:
-    """An imposed, possibly time-dependent, gas state on a boundary.
-
-    ``state(t)`` returns ``(rho, u, v, p)`` at time ``t`` [s]; velocities are
-    Cartesian components (an inflow through ``x_lo`` has ``u > 0``).
-    ``state(t, xp=jax.numpy)`` evaluates it on a traced ``t``, inside a
-    compiled time loop: a time-dependent state is written with the array
-    namespace ``xp`` (a constant one may ignore it).
-    """
-
-    state: Callable[[float], tuple[float, float, float, float]]
-    description: str
-
-
-@dataclass(frozen=True)
-class Probe:
-    """A named point where a time series is recorded."""
-
-    name: str
-    x: float
-    y: float = 0.0
-
-
-@dataclass(frozen=True)
-class Wall:
-    """The target wall whose load is reported as ``wall_force``/``wall_impulse``.
-
-    ``height`` [m] is the wall's extent across the flow; in a 1D run the force
-    per metre depth is ``(p_wall - p0) * height`` so 1D and 2D results of the
-    same scene compare directly.
-    """
-
-    side: str
-    p0: float
-    height: float
-
-
-@dataclass(frozen=True)
-class OutputGrid:
-    """The scene's output grid: uniform cell centres over the domain, output
-    times, and the probe sampling interval."""
-
-    domain: tuple[tuple[float, float], ...]
-    shape: tuple[int, ...]  # (nx,) or (nx, ny)
-    times: tuple[float, ...]
-    dt_probe: float
-
-    @property
-    def spacing(self) -> tuple[float, ...]:
-        return tuple((hi - lo) / n for (lo, hi), n in zip(self.domain, self.shape))
-
-    def centres(self, axis: int) -> np.ndarray:
-        """Cell-centre coordinates along ``axis`` (0: x, 1: y)."""
-        (lo, hi), n = self.domain[axis], self.shape[axis]
-        return lo + (np.arange(n) + 0.5) * (hi - lo) / n
-
-    @property
-    def x(self) -> np.ndarray:
-        return self.centres(0)
-
-    @property
-    def y(self) -> np.ndarray | None:
-        return self.centres(1) if len(self.shape) == 2 else None
-
-    def probe_times(self, t_end: float) -> np.ndarray:
-        """Sampling times 0, dt_probe, ... up to and including ``t_end``."""
-        n = int(np.floor(t_end / self.dt_probe + 1e-9))
-        t = np.arange(n + 1) * self.dt_probe
-        return t if np.isclose(t[-1], t_end) else np.append(t, t_end)
+__all__ = ["BOUNDARY_KINDS", "Inflow", "OutputGrid", "Probe", "SIDES", "Scene", "Wall", "WaterScene"]
 
 
 class _Scenes:
     """What every scene, gas or water, answers: its sides, its exact
     solution and its parameters."""
-
     @property
     def sides(self) -> tuple[str, ...]:
         return SIDES[: 2 * self.dim]
@@ -130,9 +61,8 @@ class Scene(_Scenes):
     scene's measured quantities (e.g. a shock angle) as attributes to attach
     to every result. ``tiles`` > 1 says the domain is one period across y of
     a channel that many periods wide, computed once and tiled onto the
-    channel by :func:`cases.run.run` (:func:`cases.tiling.tiled`).
+    channel by :func:`partmesh.dispatch.run` (:func:`partmesh.cases.tiling.tiled`).
     """
-
     name: str
     parameters: dict
     dim: int
@@ -159,8 +89,6 @@ class Scene(_Scenes):
     boundary_kinds = BOUNDARY_KINDS
 
     def __post_init__(self):
-        from cases.checks import check_scene, in_range
-
         check_scene(self)
         in_range("gamma", self.gamma, 1.0, 5.0, lo_open=True)
 
@@ -184,7 +112,6 @@ class WaterScene(_Scenes):
     defaults to ``eta``, the depth-averaged velocity (``u``, and ``v`` in
     2D) and the depth ``h``. The rest is as in :class:`Scene`.
     """
-
     name: str
     parameters: dict
     dim: int
@@ -212,8 +139,6 @@ class WaterScene(_Scenes):
     wall = None
 
     def __post_init__(self):
-        from cases.checks import check_scene, choice, positive
-
         if self.fields is None:  # (the velocity's components: u, and v in 2D)
             object.__setattr__(self, "fields", ("eta", "u", "v", "h") if self.dim == 2 else ("eta", "u", "h"))
         check_scene(self)

@@ -23,7 +23,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Callable, ClassVar
 
-from compare.checks import InputError, choice, flag, in_range, integer, positive
+from partmesh.compare.checks import InputError, choice, flag, in_range, integer, positive
 
 #: settings that say how a run reports and where it checkpoints, not what it computes
 RUN_CONTROLS = ("progress", "checkpoint", "checkpoint_every", "resume", "particles")
@@ -63,7 +63,7 @@ class Settings:
     """What every method takes: the resolution ``dx`` [m] (None: the
     scene's), the end time ``t_end`` [s] (None: the scene's), the progress
     bar, and the checkpoint file, its period and whether to resume from it
-    (:mod:`cases.checkpoint`)."""
+    (:mod:`partmesh.cases.checkpoint`)."""
 
     #: the method these settings belong to
     method: ClassVar[str] = ""

@@ -54,7 +54,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from compare.checks import number, positive
+from partmesh.compare.checks import number, positive
 
 __all__ = [
     "Shape",

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases import checks
-from cases.errors import InputError
-from cases.registry import scene_builder
-from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from cases.shapes import Circle, Polygon, disc_density
-from compare import exact, metrics
+from partmesh.cases import checks
+from partmesh.cases.errors import InputError
+from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
+from partmesh.cases.shapes import Circle, Polygon, disc_density
+from partmesh.compare import exact, metrics
 
 #: Toro (2009) Table 4.1 states usable through ``sod``'s ``preset``:
 #: (left rho, u, p), (right rho, u, p), t_end.
@@ -31,7 +30,6 @@ def _uniform(rho, u, v, p):
     return initial
 
 
-@scene_builder("sod")
 def sod(preset="sod", left_rho=None, left_u=None, left_p=None, right_rho=None, right_u=None, right_p=None,
         x0=0.5, t_end=None, gamma=1.4, nx_out=400):
     """1D Riemann problem on [0, 1] (Sod 1978; Toro's tests through ``preset``: sod, toro123, strong_shock)."""
@@ -67,7 +65,6 @@ def sod(preset="sod", left_rho=None, left_u=None, left_p=None, right_rho=None, r
     )
 
 
-@scene_builder("shock_reflection")
 def shock_reflection(Ms=3.2, rho0=AIR["rho0"], p0=AIR["p0"], length=0.5, height=0.125, dim=1, t_end=None, gamma=1.4):
     """A normal shock of Mach Ms enters a tube at rest and reflects from the end wall."""
     Ms = checks.in_range("Ms", Ms, 1.0, 50.0, lo_open=True)
@@ -114,7 +111,6 @@ def shock_reflection(Ms=3.2, rho0=AIR["rho0"], p0=AIR["p0"], length=0.5, height=
     )
 
 
-@scene_builder("wedge")
 def wedge(M1=3.5, theta_deg=20.0, rho0=AIR["rho0"], p0=AIR["p0"], x_apex=0.2, t_end=2.5e-3, gamma=1.4):
     """Uniform supersonic flow over a wedge (upper half, symmetry wall below); measured: shock angle."""
     M1 = checks.in_range("M1", M1, 1.0, 20.0, lo_open=True)
@@ -151,7 +147,6 @@ def wedge(M1=3.5, theta_deg=20.0, rho0=AIR["rho0"], p0=AIR["p0"], x_apex=0.2, t_
     )
 
 
-@scene_builder("sedov")
 def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_out=256, gamma=1.4):
     """Planar (cylindrical) Sedov–Taylor point blast at the centre of a closed square box."""
     E, rho0, p0 = checks.positive("E", E), checks.positive("rho0", rho0), checks.positive("p0", p0)
@@ -165,7 +160,7 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
         """Energy E deposited uniformly over the disc r < max(r_init, 2 dx),
         weighted by each cell's covered fraction (8×8 sub-samples) and
         normalised so the deposited total is exactly E on a lattice of side
-        dx with edges on the axes (:func:`~cases.shapes.disc_density`)."""
+        dx with edges on the axes (:func:`~partmesh.cases.shapes.disc_density`)."""
         p = p0 + (gamma - 1.0) * E * disc_density(x, y, max(r_init, 2.0 * dx), dx)
         return rho0, 0.0, 0.0, p
 
@@ -183,7 +178,6 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
     )
 
 
-@scene_builder("noh")
 def noh(gamma=5.0 / 3.0, rho0=1.0, u0=1.0, p0=1e-6, t_end=0.6, n_out=200):
     """Noh's cylindrical implosion on the quarter plane [0, 1]² (symmetry walls at x = 0 and y = 0)."""
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
@@ -210,7 +204,6 @@ def noh(gamma=5.0 / 3.0, rho0=1.0, u0=1.0, p0=1e-6, t_end=0.6, n_out=200):
     )
 
 
-@scene_builder("cylinder_shock")
 def cylinder_shock(Ms=1.16, diameter=0.015, rho0=AIR["rho0"], p0=AIR["p0"], t_end=2.2e-4, gamma=1.4):
     """A Mach 1.16 shock over a cylinder in a channel (qualitative: Mach stems, reflected shocks)."""
     Ms = checks.in_range("Ms", Ms, 1.0, 50.0, lo_open=True)

@@ -5,13 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases import checks
-from cases.registry import scene_builder
-from cases.scene import OutputGrid, Probe, WaterScene
-from compare import exact, metrics
+from partmesh.cases import checks
+from partmesh.cases.scene import OutputGrid, Probe, WaterScene
+from partmesh.compare import exact, metrics
 
 
-@scene_builder("dam_break")
 def dam_break(h_left=1.0, h_right=0.1, length=10.0, x0=5.0, t_end=0.6, nx_out=800, g=9.81, dim=1):
     """Ideal dam break on a flat frictionless bed (Stoker 1957; Ritter 1892 for h_right = 0); ``dim=2``: the
     same dam across a square basin, walls at y = 0 and y = length (the flow stays one-dimensional)."""
@@ -51,7 +49,6 @@ def dam_break(h_left=1.0, h_right=0.1, length=10.0, x0=5.0, t_end=0.6, nx_out=80
     )
 
 
-@scene_builder("lake_at_rest")
 def lake_at_rest(dim=1, depth=0.5, island=0.7, ripples=0.1, length=1.0, t_end=0.5, n_out=100, g=9.81):
     """Still water over a bumpy bed with a dry island: it must stay at rest (well-balancing, wet/dry);
     with island = ripples = 0, a hydrostatic tank."""
@@ -81,7 +78,6 @@ def lake_at_rest(dim=1, depth=0.5, island=0.7, ripples=0.1, length=1.0, t_end=0.
     )
 
 
-@scene_builder("standing_wave")
 def standing_wave(amplitude=0.005, depth=0.5, length=1.0, mode=1, t_end=3.0, nx_out=100, g=9.81):
     """A linear standing wave eta0 = a cos(k x), k = mode pi/length, released at rest in a closed tank."""
     amplitude, depth = checks.positive("amplitude", amplitude), checks.positive("depth", depth)
@@ -125,7 +121,7 @@ def _with_gauges(ds, output, probes, times, eta_at):
 
 def first_crests(ds) -> dict:
     """Height, time and arrival of the first crest at every gauge
-    (:func:`compare.metrics.first_crest`): ``first_crest_height_<gauge>``
+    (:func:`partmesh.compare.metrics.first_crest`): ``first_crest_height_<gauge>``
     [m], ``first_crest_time_<gauge>`` and ``first_crest_arrival_<gauge>`` [s]."""
     out = {}
     for gauge in ds["probe"].values:
@@ -142,7 +138,7 @@ def _linear_wave_scene(name, shape, geometry, depth, length, gauges, t_end, nx_o
     """A wave scene of SPEC §4.3: still water of depth ``depth`` over a flat
     bed, the initial elevation ``shape`` at rest, a reflecting wall (planar)
     or the axis (radial) at x = 0 and an absorbing far end at ``length``; its
-    exact solution is linear dispersive theory (:func:`compare.exact.linear_waves`),
+    exact solution is linear dispersive theory (:func:`partmesh.compare.exact.linear_waves`),
     fields on the output grid and the series at the gauges."""
     domain = ((0.0, length),)
     n_frames = int(np.ceil(t_end)) + 1
@@ -163,13 +159,11 @@ def _linear_wave_scene(name, shape, geometry, depth, length, gauges, t_end, nx_o
     )
 
 
-@scene_builder("prins_mound")
 def prins_mound(Q=0.12, L=0.61, depth=0.7, length=30.0, t_end=10.0, nx_out=1500, g=9.81):
     """Prins' (1958) raised box of water released at rest in a flume; gauges at 2, 4.57, 6 and 8 m."""
     return _prins("prins_mound", Q, L, depth, length, t_end, nx_out, g)
 
 
-@scene_builder("prins_depression")
 def prins_depression(Q=-0.12, L=0.61, depth=0.7, length=30.0, t_end=10.0, nx_out=1500, g=9.81):
     """Prins' (1958) depressed box of water released at rest in a flume; gauges at 2, 4.57, 6 and 8 m."""
     return _prins("prins_depression", Q, L, depth, length, t_end, nx_out, g)
@@ -203,7 +197,6 @@ def _prins(name, Q, L, depth, length, t_end, nx_out, g):
         "measured: first crest at each gauge against linear dispersive theory.")
 
 
-@scene_builder("cavity_collapse")
 def cavity_collapse(D_c=0.3, R_c=0.6, depth=1.0, geometry="planar", length=25.0, t_end=10.0, nx_out=1250, g=9.81):
     """An explosion cavity with a rim, eta0 = D_c (2 (r/R_c)^2 - 1) for r <= R_c, released at rest; gauges at 2, 4, 6 m."""
     D_c, R_c = checks.positive("D_c", D_c), checks.positive("R_c", R_c)

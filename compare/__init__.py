@@ -4,7 +4,7 @@
 ground that solvers write to and studies read from.
 """
 
-from compare.io import read, write
-from compare.schema import SchemaError, result, validate
+from partmesh.compare.io import read, write
+from partmesh.compare.schema import SchemaError, result, validate
 
 __all__ = ["SchemaError", "read", "result", "validate", "write"]

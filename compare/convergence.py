@@ -22,7 +22,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from compare.checks import number
+from partmesh.compare.checks import number
 
 __all__ = ["observed_order", "observed_order_three", "richardson", "gci"]
 
@@ -48,7 +48,7 @@ def observed_order(h, errors) -> float:
 
     which for two levels is p = log(e₂/e₁)/log(h₂/h₁) (Roache 1998, ch. 5).
     ``errors`` are errors against an exact or reference solution (e.g. the
-    L1 norms of :func:`compare.metrics.field_error`).
+    L1 norms of :func:`partmesh.compare.metrics.field_error`).
 
     Raises
     ------

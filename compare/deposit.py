@@ -25,7 +25,7 @@ import numpy as np
 from scipy import sparse
 from scipy.spatial import cKDTree
 
-from compare.checks import InputError, in_range
+from partmesh.compare.checks import InputError, in_range
 
 __all__ = ["cell_average", "moments_to_primitive", "shepard"]
 

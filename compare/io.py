@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from compare.schema import SchemaError, validate
+from partmesh.compare.schema import SchemaError, validate
 
 
 def write(ds: xr.Dataset, path: str | os.PathLike) -> Path:

@@ -1,7 +1,7 @@
 """Scalar measures of a result: field errors, shock positions, probe-series
 metrics, oblique-shock angles and conservation drift (SPEC §5).
 
-Every function works on the schema's objects (:mod:`compare.schema`):
+Every function works on the schema's objects (:mod:`partmesh.compare.schema`):
 fields are :class:`xarray.DataArray` on ``([y,] x)`` (select a ``time``
 first), probe series are 1D DataArrays on ``t_probe`` (select a ``probe``
 first, e.g. ``ds.p_probe.sel(probe="w")``). NaN marks cells inside solids or
@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from compare.checks import number
+from partmesh.compare.checks import number
 
 __all__ = [
     "NORMS",
@@ -35,7 +35,7 @@ __all__ = [
 #: the norms :func:`field_error` knows.
 NORMS = ("L1", "L2", "Linf")
 
-#: units of the scalar quantities scenes measure with this module (``cases.run`` attaches them to a result)
+#: units of the scalar quantities scenes measure with this module (``partmesh.dispatch`` attaches them to a result)
 MEASURED_UNITS = {
     "wall_peak_pressure_raw": "Pa", "wall_peak_pressure_fitted": "Pa", "wall_arrival_time": "s",
     "wall_impulse_final": "N s m-1", "wall_force_peak_raw": "N m-1",

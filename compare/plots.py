@@ -8,17 +8,22 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: E402
-import xarray as xr  # noqa: E402
+from partmesh.compare.convergence import observed_order
+from partmesh.compare.metrics import measured_unit, schlieren
+from partmesh.compare.pareto import pareto_front
 
-from compare.convergence import observed_order  # noqa: E402
-from compare.metrics import measured_unit, schlieren  # noqa: E402
-from compare.report import pareto_front  # noqa: E402
+
+def _subplots(rows: int = 1, columns: int = 1, figsize=None, layout=None, **kwargs):
+    """A figure and its axes, drawn on a :class:`~matplotlib.figure.Figure`
+    of its own: no pyplot state and no backend is chosen or changed, so the
+    figures of a report do not touch an interactive session's."""
+    fig = Figure(figsize=figsize, layout=layout)
+    return fig, fig.subplots(rows, columns, **kwargs)
 
 
 def _label(ds: xr.Dataset, name: str | None = None) -> str:
@@ -41,7 +46,7 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
     for every run, with the reference drawn as a black line."""
     names = names or [None] * len(runs)
     t = float(runs[0].time[-1]) if time is None else time
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = _subplots(figsize=(7, 4.2))
     if reference is not None:
         ref = reference[field].sel(time=t, method="nearest")
         # on top of the runs: a particle method's scatter would hide it
@@ -70,7 +75,7 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     multiplies the time axis (e.g. 1e3 for ms, named by ``unit``);
     ``title`` replaces the scene's name in the title."""
     names = names or [None] * len(runs)
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = _subplots(figsize=(7, 4.2))
     if reference is not None and var in reference:
         ref = reference[var].sel(probe=probe) if probe is not None else reference[var]
         ax.plot(reference.t_probe * scale, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
@@ -95,11 +100,11 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
 
 
 def speed_versus_error(df, error: str, path, title: str, ylabel: str | None = None) -> Path:
-    """``error`` (a column of a :func:`compare.report.table`) against wall
+    """``error`` (a column of a :func:`partmesh.compare.report.table`) against wall
     time, log–log, one line per method through its resolutions, the Pareto
     front (no run both faster and more accurate) drawn and its runs ringed;
     ``ylabel`` names the error (default: from the column, 'L1 error of rho')."""
-    fig, ax = plt.subplots(figsize=(7, 4.6))
+    fig, ax = _subplots(figsize=(7, 4.6))
     rows = df[(df[error] > 0) & np.isfinite(df["wall_seconds"])]  # (a reference run's own error, 0, has no place)
     for method, group in rows.groupby("method", sort=False):
         group = group.sort_values("wall_seconds")
@@ -118,7 +123,7 @@ def trends(df, x: str, quantities, path, title: str, xlabel: str, labels=None, s
     labels, scales = labels or {}, scales or {}
     columns = min(2, len(quantities))
     rows = -(-len(quantities) // columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(4.6 * columns, 3.4 * rows), squeeze=False)
+    fig, axes = _subplots(rows, columns, figsize=(4.6 * columns, 3.4 * rows), squeeze=False)
     colours = {m: f"C{k}" for k, m in enumerate(dict.fromkeys(df["method"]))}
     styles = {s: st for s, st in zip(dict.fromkeys(df["shape"]), (("o", "-"), ("s", "--"), ("^", ":"), ("D", "-.")))}
     for ax in axes.flat[len(quantities):]:
@@ -141,7 +146,7 @@ def trends(df, x: str, quantities, path, title: str, xlabel: str, labels=None, s
 def convergence(df, error: str, path, title: str) -> Path:
     """``error`` against ``dx``, log–log, one line per method, its observed
     order (least-squares slope) in the legend where it has ≥ 2 levels."""
-    fig, ax = plt.subplots(figsize=(7, 4.6))
+    fig, ax = _subplots(figsize=(7, 4.6))
     rows = df[df[error] > 0]
     for method, group in rows.groupby("method", sort=False):
         group = group.sort_values("dx")
@@ -154,14 +159,14 @@ def convergence(df, error: str, path, title: str) -> Path:
 
 def richardson(df, convergence, path, title: str) -> Path:
     """One panel per measured quantity of ``convergence`` (a
-    :func:`compare.report.grid_convergence` table): the quantity against
+    :func:`partmesh.compare.report.grid_convergence` table): the quantity against
     dx for every run of each method in ``df``, its Richardson value as a
     dashed line and the finest level's GCI as an error bar, both in the
     legend."""
     quantities = list(dict.fromkeys(convergence["quantity"]))
     cols = min(3, len(quantities))
     rows_n = -(-len(quantities) // cols)
-    fig, axes = plt.subplots(rows_n, cols, figsize=(4.4 * cols, 3.4 * rows_n + 0.4), squeeze=False)
+    fig, axes = _subplots(rows_n, cols, figsize=(4.4 * cols, 3.4 * rows_n + 0.4), squeeze=False)
     for ax, quantity in zip(axes.flat, quantities):
         for k, (_, row) in enumerate(convergence[convergence["quantity"] == quantity].iterrows()):
             colour = f"C{k}"
@@ -228,7 +233,7 @@ def field_maps(runs, field: str, path, reference: xr.Dataset | None = None, name
 
 
 def schlieren_maps(runs, path, names=None, time=None, k: float = 8.0, columns: int | None = None) -> Path:
-    """Numerical schlieren (:func:`compare.metrics.schlieren`) of every run's
+    """Numerical schlieren (:func:`partmesh.compare.metrics.schlieren`) of every run's
     density at ``time`` (default: the last output time), in ``columns``
     columns (default: side by side in one row), each panel sized to the
     domain's aspect ratio."""
@@ -254,7 +259,7 @@ def _map_grid(ds: xr.Dataset, panels: int, columns: int):
     width = 3.2 if columns > 1 else 9.0
     aspect = float(np.ptp(y) / np.ptp(x)) if x.size > 1 and y.size > 1 else 1.0
     height = min(max(width * aspect, 1.0), 3.2)
-    fig, axes = plt.subplots(rows, columns, figsize=(width * columns + 1.2, (height + 0.5) * rows + 0.4),
+    fig, axes = _subplots(rows, columns, figsize=(width * columns + 1.2, (height + 0.5) * rows + 0.4),
                              squeeze=False, layout="constrained")
     for ax in axes.flat[panels:]:
         ax.axis("off")
@@ -302,5 +307,4 @@ def _save(fig, path, tight: bool = True) -> Path:
     if tight:
         fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path

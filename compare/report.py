@@ -16,8 +16,10 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from compare.metrics import field_error
-from compare.schema import FIELDS, parameters
+from partmesh.compare import plots
+from partmesh.compare.convergence import gci
+from partmesh.compare.metrics import field_error
+from partmesh.compare.schema import FIELDS, parameters
 
 COST_ATTRS = ("dx", "n_elements", "n_steps", "wall_seconds", "compile_seconds")
 NORMS = ("L1", "L2", "Linf")
@@ -61,7 +63,7 @@ def table(runs: list[xr.Dataset], reference: xr.Dataset | None = None, names: li
     """One row per run: cost, field errors against ``reference`` at the last
     output time both hold, and the scene's measured quantities; last, a row
     ``reference`` with the quantities measured on the reference, if it
-    carries any (:func:`cases.reporting.exact_reference` measures the exact
+    carries any (:func:`partmesh.reporting.exact_reference` measures the exact
     solution where the scene can)."""
     names = names or [f"run{i}" for i in range(len(runs))]
     check_same_scene(runs, names)
@@ -158,16 +160,14 @@ def grid_convergence(df: pd.DataFrame, quantities) -> pd.DataFrame:
     """Richardson value and Grid Convergence Index of each of ``quantities``
     (columns of ``df``, a :func:`table`) per method, from the method's three
     finest resolutions among its finished runs (Celik et al. 2008, by
-    :func:`compare.convergence.gci`; refinement ratios from ``dx``). One row
+    :func:`partmesh.compare.convergence.gci`; refinement ratios from ``dx``). One row
     per method and quantity: the levels ``dx1 < dx2 < dx3`` and values
     ``f1, f2, f3``, then p, ``f_ext`` (the Richardson value), ``gci_fine``
-    and the rest of :func:`~compare.convergence.gci`; where the three values
+    and the rest of :func:`~partmesh.compare.convergence.gci`; where the three values
     give no observed order or do not converge (|ε₂₁/ε₃₂| ≥ 1), ``note``
     says why. Quantities
     equal on all three levels (a scene's exact value, not computed) and
     methods with fewer than three resolutions have no row."""
-    from compare.convergence import gci
-
     rows = []
     finished = df[df["status"] == "ok"] if "status" in df else df
     for method, group in finished.groupby("method", sort=False):
@@ -189,22 +189,6 @@ def grid_convergence(df: pd.DataFrame, quantities) -> pd.DataFrame:
                 row["note"] = str(err)
             rows.append(row)
     return pd.DataFrame(rows)
-
-
-def pareto_front(seconds, errors) -> np.ndarray:
-    """Mask of the runs no other run beats in both cost and error: run i is
-    on the front unless some run j has seconds_j ≤ seconds_i and errors_j ≤
-    errors_i with one of them strictly less (NaN entries are never on it)."""
-    seconds, errors = np.asarray(seconds, float), np.asarray(errors, float)
-    if seconds.shape != errors.shape or seconds.ndim != 1:
-        raise ValueError("seconds and errors must be 1D arrays of one length.")
-    valid = np.isfinite(seconds) & np.isfinite(errors)
-    front = np.zeros(seconds.size, dtype=bool)
-    for i in np.flatnonzero(valid):
-        no_worse = valid & (seconds <= seconds[i]) & (errors <= errors[i])
-        better = no_worse & ((seconds < seconds[i]) | (errors < errors[i]))
-        front[i] = not better.any()
-    return front
 
 
 def write_table(df: pd.DataFrame, folder: str | Path, stem: str = "summary") -> Path:
@@ -230,8 +214,6 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     more resolutions, the Richardson value and GCI of every quantity the
     scene measured (:func:`grid_convergence`) go to ``convergence.csv`` and
     ``convergence.json`` and the figure ``richardson.png``."""
-    from compare import plots
-
     folder = Path(folder)
     df = table(runs, reference, names)
     write_table(df, folder)

@@ -21,6 +21,7 @@ wrong.
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import json
 import subprocess
 from importlib import metadata
@@ -29,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-#: the entry-point group methods register in (:mod:`cases.run`), this package's and any other's
+#: the entry-point group methods register in (:mod:`partmesh.dispatch`), this package's and any other's
 METHOD_GROUP = "partmesh.methods"
 #: the methods this package registers, valid where its entry points are not installed (a source tree)
 BUILT_IN = ("dsmc", "fv", "hybrid", "sph", "swe", "wcsph")
@@ -88,12 +89,15 @@ def version() -> str:
         return "0+unknown"
 
 
+@functools.cache
 def source_revision() -> str | None:
     """The git commit of the source tree this module was imported from,
     with ``+dirty`` when that tree holds uncommitted changes to tracked
     files; None outside a git checkout (an installed wheel) or without git.
-    Read once, at import, so a run names the code it loaded even if the
-    tree changes while it runs."""
+    Read once per process, when the first run starts
+    (:class:`~partmesh.cases.history.RunRecord`), so a run names the code
+    it loaded even if the tree changes while it runs, and an import runs
+    no git."""
     root = Path(__file__).resolve().parent.parent
 
     def git(*args) -> str:
@@ -109,8 +113,6 @@ def source_revision() -> str | None:
         return None
     return commit + ("+dirty" if dirty else "")
 
-
-SOURCE_REVISION = source_revision()
 
 
 def _spatial_dims(ndim: int) -> tuple[str, ...]:
@@ -176,8 +178,8 @@ def result(
         created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         status="ok",
     )
-    if SOURCE_REVISION:
-        ds.attrs["source_revision"] = SOURCE_REVISION
+    if source_revision():
+        ds.attrs["source_revision"] = source_revision()
     ds.attrs.update(attrs)
     return ds
 

@@ -1,7 +1,7 @@
 """Whole stretches of a grid method's steps in one compiled
 ``jax.lax.while_loop`` on the device: the time step, the step, the
 failure test and the probe and side-force records never return to the
-host; :func:`cases.march.march` drives it."""
+host; :func:`partmesh.cases.march.march` drives it."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from cases.march import LANDING, Stretch
+from partmesh.cases.march import LANDING, Stretch
 
 
 class DeviceLoop:

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from jax_cfd.base import grids
 
-from cases.checks import InputError
-from compare.regrid import linear_weights
+from partmesh.cases.checks import InputError
+from partmesh.compare.regrid import linear_weights
 
 
 def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Grid:

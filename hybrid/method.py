@@ -1,19 +1,19 @@
 """Method ``hybrid``: its settings and its entry in the method registry
-(:mod:`cases.method`); the solver is :mod:`hybrid.solve`."""
+(:mod:`partmesh.cases.method`); the solver is :mod:`partmesh.hybrid.solve`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import positive
-from cases.memory import elements_in, grid_cell_bytes
-from cases.method import Memory, Method
-from compare.checks import InputError
-from cases.settings import at_least, one_of, setting, within
-from gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
-from hybrid.cells import SENSORS
-from particle.sph.method import SPHScheme
+from partmesh.cases.checks import positive
+from partmesh.cases.memory import elements_in, grid_cell_bytes
+from partmesh.cases.method import Memory, Method
+from partmesh.cases.settings import at_least, one_of, setting, within
+from partmesh.compare.checks import InputError
+from partmesh.gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
+from partmesh.hybrid.cells import SENSORS
+from partmesh.particle.sph.method import SPHScheme
 
 #: the most particles per cell width (beta = 1/k)
 MOST_PER_CELL = 16
@@ -31,7 +31,7 @@ class HybridSettings(SPHScheme):
     hold particles) — ``buffer`` the cells added around those, ``cfl`` the
     grid's Courant number, ``cfl_sph`` the particles' (Δt = C min h/v_sig);
     the SPH scheme's settings are those of method ``sph``
-    (:class:`~particle.sph.method.SPHScheme`), ``limiter`` and ``riemann``
+    (:class:`~partmesh.particle.sph.method.SPHScheme`), ``limiter`` and ``riemann``
     those of ``fv``."""
 
     method: ClassVar[str] = "hybrid"
@@ -66,4 +66,4 @@ def memory(scene, settings: HybridSettings) -> Memory:
                   "grid cells")
 
 
-METHOD = Method("hybrid", "gas", HybridSettings, memory, "hybrid.solve:solve")
+METHOD = Method("hybrid", "gas", HybridSettings, memory, "partmesh.hybrid.solve:solve")

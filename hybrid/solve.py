@@ -6,7 +6,7 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
 
 1. The grid takes its finite-volume step everywhere: U_fv(t + Δt).
 2. The particles sub-cycle from t to t + Δt with the SPH leapfrog
-   (:mod:`particle.sph.integrator`), the last sub-step trimmed to land on
+   (:mod:`partmesh.particle.sph.integrator`), the last sub-step trimmed to land on
    t + Δt. Their neighbours at the edge are boundary particles on the
    injection lattice of a ring of cells around the particle cells, which
    move with the grid's velocity and take the grid's state, interpolated
@@ -15,7 +15,7 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
    the sub-steps share one particle set and reuse its neighbour lists.
 3. Conservation: the grid's step fixes what the particle cells hold at
    t + Δt (Σ_cells U_fv: the flux through their edge), and the particles'
-   mass, momentum and energy are matched to it (:func:`hybrid.exchange.matched`;
+   mass, momentum and energy are matched to it (:func:`partmesh.hybrid.exchange.matched`;
    momentum not along an axis where the particle cells meet a wall: the
    grid's coarse wall and the particles' mirror wall push differently, and
    a common velocity shift for the difference, measured on ``blast_kt``,
@@ -27,7 +27,7 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
    through the domain's sides, to round-off.
 5. Cells are flagged anew (relative jump of ρ or p, of p alone, or of p
    across faces the flow does not diverge across, to a face neighbour
-   above ``threshold``: :func:`hybrid.cells.sensed_jumps`; plus ``buffer``
+   above ``threshold``: :func:`partmesh.hybrid.cells.sensed_jumps`; plus ``buffer``
    cells; a flagged cell stays flagged
    until its jumps fall below a quarter of that): fluid particles in the
    ring become boundary particles and those beyond it are removed;
@@ -44,28 +44,28 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
 
 from __future__ import annotations
 
-import time as _time
 import dataclasses
+import time as _time
 from dataclasses import dataclass
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from cases.checkpoint import checkpoint_for
-from cases.history import History, RunRecord
-from cases.march import march, single_steps
-from compare.regrid import to_output_grid
-from gridref.euler.solve import initial_state, inflow_states, scheme_for
-from gridref.euler.state import primitive
-from gridref.euler.step import Stepper
-from gridref.grid import bilinear_stencil, cell_centres, solver_grid
-from gridref.jax_setup import configure_jax
-from hybrid.cells import cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
-from hybrid.exchange import cloud, deposited, interpolated, matched
-from hybrid.method import HybridSettings
-from particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
-from particle.sph.solve import Evaluation, GasSPH, Particles
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import march, single_steps
+from partmesh.compare.regrid import to_output_grid
+from partmesh.gridref.euler.solve import inflow_states, initial_state, scheme_for
+from partmesh.gridref.euler.state import primitive
+from partmesh.gridref.euler.step import Stepper
+from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
+from partmesh.gridref.jax_setup import configure_jax
+from partmesh.hybrid.cells import cell_of, flagged, lattice, relaid, ring, sensed_jumps, thinned
+from partmesh.hybrid.exchange import cloud, deposited, interpolated, matched
+from partmesh.hybrid.method import HybridSettings
+from partmesh.particle.sph.integrator import SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
+from partmesh.particle.sph.scheme import Evaluation, GasSPH, Particles
 
 #: a cell keeps its particles until its jumps fall below this fraction of the threshold
 RELEASE = 0.25
@@ -296,10 +296,10 @@ class Coupling:
 
 def solve(scene, settings: HybridSettings):
     """Run ``scene`` with the hybrid finite-volume – SPH method and checked
-    ``settings`` (:class:`~hybrid.method.HybridSettings`). Raises
-    :class:`~cases.errors.SolverFailed` with the partial result if the
+    ``settings`` (:class:`~partmesh.hybrid.method.HybridSettings`). Raises
+    :class:`~partmesh.cases.errors.SolverFailed` with the partial result if the
     state turns non-physical or the run is interrupted. Checkpoints as in
-    the other methods (:mod:`cases.checkpoint`): a resumed run searches its
+    the other methods (:mod:`partmesh.cases.checkpoint`): a resumed run searches its
     particles' neighbours anew, so it ends within ~1e-7 of an
     uninterrupted one.
     """

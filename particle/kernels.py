@@ -83,7 +83,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from compare.checks import InputError
+from partmesh.compare.checks import InputError
 
 __all__ = [
     "KERNELS",
@@ -320,7 +320,7 @@ def skewed_w(kind, rx, ry, H, dim, lam_x, lam_y):
 
     After Prasanna Kumar, Patnaik & Ramamurthi (2018), SPEC §3.1.
     ``r_vec = (rx, ry)`` is the separation ``x_i − x_j`` (the ``dx`` convention
-    of :func:`particle.neighbours.neighbours`; pass ``ry = 0`` in 1D) and
+    of :func:`partmesh.particle.neighbours.neighbours`; pass ``ry = 0`` in 1D) and
     ``λ = (lam_x, lam_y)``. Because erf is odd, ``W_s(R) + W_s(−R) = 2 W(|R|)``
     and ``∫ W_s dV = ∫ W dV = 1``; ``W_s → 2W`` where ``λ·R ≫ 0`` and ``→ 0``
     where ``λ·R ≪ 0``. With ``λ = −c n̂`` (``n̂`` the wall normal pointing

@@ -39,7 +39,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from compare.checks import InputError
+from partmesh.compare.checks import InputError
 
 __all__ = ["cell_grid", "cell_support", "counting_sort", "nearby_maximum", "neighbour_lists", "neighbours", "padded",
            "periods", "renumbered", "separation", "separations", "sort_order"]

@@ -1,6 +1,6 @@
 """JAX as the grid methods run it (float64, the compilation cache), for the
 tests that call grid kernels without a run."""
 
-from gridref.jax_setup import configure_jax
+from partmesh.gridref.jax_setup import configure_jax
 
 configure_jax()

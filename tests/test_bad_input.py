@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import cases
-from cases.errors import InputError, SolverFailed
-from cases.scene import OutputGrid, Probe, Scene
-from cases.shapes import Circle
-from compare.io import read
-from compare.schema import SchemaError
+import partmesh
+from partmesh.cases.errors import InputError, SolverFailed
+from partmesh.cases.scene import OutputGrid, Probe, Scene
+from partmesh.cases.shapes import Circle
+from partmesh.compare.io import read
+from partmesh.compare.schema import SchemaError
 
 
 def one_sentence(err) -> str:
@@ -41,7 +41,7 @@ def tube(**changes):
 
 @pytest.fixture(scope="module")
 def sod():
-    return cases.get("sod")
+    return partmesh.scene("sod")
 
 
 def test_valid_hand_built_scene_is_accepted():
@@ -50,7 +50,7 @@ def test_valid_hand_built_scene_is_accepted():
 
 def test_unknown_case():
     with pytest.raises(InputError) as info:
-        cases.get("nope")
+        partmesh.scene("nope")
     message = one_sentence(info.value)
     assert "nope" in message and "case" in message
     assert "sod" in message  # says what is allowed
@@ -58,28 +58,28 @@ def test_unknown_case():
 
 def test_unknown_method(sod):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "nope")
+        partmesh.run(sod, "nope")
     message = one_sentence(info.value)
     assert "nope" in message and "method" in message and "fv" in message
 
 
 def test_unknown_scene_parameter():
     with pytest.raises(InputError) as info:
-        cases.get("sod", left_density=2.0)
+        partmesh.scene("sod", left_density=2.0)
     message = one_sentence(info.value)
     assert "left_density" in message and "left_rho" in message
 
 
 def test_unknown_solver_setting(sod):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "fv", limitter="mc", progress=False)
+        partmesh.run(sod, "fv", limitter="mc", progress=False)
     assert "limitter" in one_sentence(info.value)
 
 
 @pytest.mark.parametrize("key, value", [("left_rho", -1.0), ("right_rho", 0.0)])
 def test_non_positive_density(key, value):
     with pytest.raises(InputError) as info:
-        cases.get("sod", **{key: value})
+        partmesh.scene("sod", **{key: value})
     message = one_sentence(info.value)
     assert key in message and "0" in message
 
@@ -87,7 +87,7 @@ def test_non_positive_density(key, value):
 @pytest.mark.parametrize("key", ["left_p", "right_p"])
 def test_zero_pressure(key):
     with pytest.raises(InputError) as info:
-        cases.get("sod", **{key: 0.0})
+        partmesh.scene("sod", **{key: 0.0})
     assert key in one_sentence(info.value)
 
 
@@ -95,13 +95,13 @@ def test_zero_pressure(key):
                                        ("noh", "rho0"), ("wedge", "p0")])
 def test_non_positive_ambient_state(case, key):
     with pytest.raises(InputError) as info:
-        cases.get(case, **{key: -1.0})
+        partmesh.scene(case, **{key: -1.0})
     assert key in one_sentence(info.value)
 
 
 def test_non_numeric_override():
     with pytest.raises(InputError) as info:
-        cases.get("sod", left_rho="heavy")
+        partmesh.scene("sod", left_rho="heavy")
     message = one_sentence(info.value)
     assert "left_rho" in message and "heavy" in message
 
@@ -109,7 +109,7 @@ def test_non_numeric_override():
 @pytest.mark.parametrize("cfl", [0.0, -0.5, 1.5])
 def test_cfl_outside_0_1(sod, cfl):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "fv", cfl=cfl, progress=False)
+        partmesh.run(sod, "fv", cfl=cfl, progress=False)
     message = one_sentence(info.value)
     assert "cfl" in message and "(0, 1]" in message
 
@@ -117,7 +117,7 @@ def test_cfl_outside_0_1(sod, cfl):
 @pytest.mark.parametrize("key, value", [("limiter", "nonsense"), ("riemann", "roe-ish")])
 def test_unknown_limiter_or_riemann_solver(sod, key, value):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "fv", progress=False, **{key: value})
+        partmesh.run(sod, "fv", progress=False, **{key: value})
     message = one_sentence(info.value)
     assert key in message and value in message
 
@@ -130,9 +130,9 @@ def test_probe_outside_the_domain():
 
 
 def test_probe_inside_a_solid():
-    from cases.shapes import Circle
+    from partmesh.cases.shapes import Circle
 
-    scene = cases.get("cylinder_shock")
+    scene = partmesh.scene("cylinder_shock")
     body = scene.obstacles[0]
     (x0, y0, x1, y1) = body.bounds()
     with pytest.raises(InputError) as info:
@@ -150,22 +150,22 @@ def test_inconsistent_output_times(times):
 
 def test_dx_that_does_not_divide_the_domain(sod):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "fv", dx=0.3, progress=False)
+        partmesh.run(sod, "fv", dx=0.3, progress=False)
     message = one_sentence(info.value)
     assert "dx" in message and "0.3" in message
 
 
 def test_non_positive_dx(sod):
     with pytest.raises(InputError) as info:
-        cases.run(sod, "fv", dx=-1e-3, progress=False)
+        partmesh.run(sod, "fv", dx=-1e-3, progress=False)
     assert "dx" in one_sentence(info.value)
 
 
 @pytest.mark.parametrize("method", ["fv", "sph"])
 def test_obstacle_too_coarse_for_dx(method):
-    scene = cases.get("cylinder_shock")  # 15 mm cylinder
+    scene = partmesh.scene("cylinder_shock")  # 15 mm cylinder
     with pytest.raises(InputError) as info:
-        cases.run(scene, method, dx=5e-3, progress=False)  # 3 cells (particle spacings) across it
+        partmesh.run(scene, method, dx=5e-3, progress=False)  # 3 cells (particle spacings) across it
     assert "dx" in one_sentence(info.value)
 
 
@@ -174,19 +174,19 @@ def test_obstacle_too_coarse_for_dx(method):
                                                  ("blast_wall", (0.5, 0.11), "y_hi")])
 def test_obstacle_reaching_an_inflow_or_periodic_side(method, case, centre, side):
     # a cylinder across the inlet (the buffer carries no solid) or across a periodic side
-    scene = cases.get(case, dim=2) if case == "blast_wall" else cases.get(case)
+    scene = partmesh.scene(case, dim=2) if case == "blast_wall" else partmesh.scene(case)
     scene = dataclasses.replace(scene, obstacles=(Circle(*centre, 0.02),))
     with pytest.raises(InputError) as info:
-        cases.run(scene, method, dx=2e-3, progress=False)
+        partmesh.run(scene, method, dx=2e-3, progress=False)
     message = one_sentence(info.value)
     assert "obstacle 0" in message and side in message
 
 
 def test_unstable_sph_run_stops_with_its_partial_result():
     # a pressure ratio of 1e5 without artificial viscosity or conduction cannot be run
-    scene = cases.get("sod", left_p=1e5)
+    scene = partmesh.scene("sod", left_p=1e5)
     with pytest.raises(SolverFailed) as info:
-        cases.run(scene, "sph", dx=1 / 200, alpha_max=0.0, alpha_u=0.0, cfl=1.0, progress=False)
+        partmesh.run(scene, "sph", dx=1 / 200, alpha_max=0.0, alpha_u=0.0, cfl=1.0, progress=False)
     message = one_sentence(info.value)
     # caught in the density solve or in the energy after the step, whichever comes first: when and where
     assert message.startswith(("sph failed at t = ", "sph became unstable at t = ")) and "x = " in message
@@ -198,9 +198,9 @@ def test_unstable_sph_run_stops_with_its_partial_result():
 
 def test_sph_support_wider_than_half_a_period_stops_in_one_sentence():
     # one row pitch (0.04 m) at 4 mm: supports of 16 mm that must grow beyond the 20 mm minimum images allow
-    scene = cases.get("blast_array", one_period=True)
+    scene = partmesh.scene("blast_array", one_period=True)
     with pytest.raises(SolverFailed) as info:
-        cases.run(scene, "sph", dx=4e-3, t_end=1e-4, progress=False)
+        partmesh.run(scene, "sph", dx=4e-3, t_end=1e-4, progress=False)
     message = one_sentence(info.value)
     assert "reached half the periodic width (0.02 m)" in message and "one_period=false" in message
 
@@ -208,7 +208,7 @@ def test_sph_support_wider_than_half_a_period_stops_in_one_sentence():
 def test_wedge_beyond_detachment():
     # theta_max = 36.87 deg at M1 = 3.5 (gamma = 1.4)
     with pytest.raises(InputError) as info:
-        cases.get("wedge", theta_deg=40)
+        partmesh.scene("wedge", theta_deg=40)
     message = one_sentence(info.value)
     assert "theta_deg" in message and "detach" in message
 
@@ -240,7 +240,7 @@ def test_missing_result_file(tmp_path):
 
 
 def cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "cases.cli", *args], check=False, cwd=cwd, capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "partmesh.cli", *args], check=False, cwd=cwd, capture_output=True, text=True,
                           timeout=300)
 
 
@@ -272,10 +272,10 @@ def test_cli_compare_of_a_non_result_exits_2(tmp_path):
                                               ("hybrid", "sod", 1e-9), ("swe", "prins_mound", 1e-9),
                                               ("wcsph", "prins_mound", 1e-6)])
 def test_a_run_larger_than_the_free_memory_is_refused_before_it_allocates(method, case, dx):
-    from cases.memory import available_bytes
+    from partmesh.cases.memory import available_bytes
 
     with pytest.raises(InputError) as info:
-        cases.run(case, method, dx=dx, progress=False)
+        partmesh.run(case, method, dx=dx, progress=False)
     message = one_sentence(info.value)
     need, free = (float(v) for v in re.findall(r"about ([0-9.e+]+) GiB .* and ([0-9.e+]+) GiB are free", message)[0])
     assert need > free and free == pytest.approx(available_bytes() / 2**30, rel=0.2)

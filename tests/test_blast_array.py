@@ -4,10 +4,10 @@ blockage for every shape, and the inputs it refuses."""
 import numpy as np
 import pytest
 
-import cases
-from cases.blast import ROW_PITCH
-from cases.errors import InputError
-from cases.shapes import SHAPES, overlaps
+import partmesh
+from partmesh.cases.blast import ROW_PITCH
+from partmesh.cases.errors import InputError
+from partmesh.cases.shapes import SHAPES, overlaps
 
 SIZE = 0.0267
 
@@ -32,7 +32,7 @@ def _covered(column, width):
 @pytest.mark.parametrize("shape", sorted(SHAPES))
 @pytest.mark.parametrize("arrangement", ["inline", "staggered"])
 def test_every_shape_and_arrangement_blocks_two_thirds_of_the_channel(shape, arrangement):
-    scene = cases.get("blast_array", shape=shape, arrangement=arrangement)
+    scene = partmesh.scene("blast_array", shape=shape, arrangement=arrangement)
     width = scene.domain[1][1]
     assert width == pytest.approx(3 * ROW_PITCH)
     columns = _columns(scene)
@@ -45,7 +45,7 @@ def test_every_shape_and_arrangement_blocks_two_thirds_of_the_channel(shape, arr
 
 
 def test_staggered_columns_are_shifted_by_half_a_pitch_and_cut_by_the_periodic_sides():
-    scene = cases.get("blast_array", arrangement="staggered", layers=4)
+    scene = partmesh.scene("blast_array", arrangement="staggered", layers=4)
     columns = _columns(scene)
     centres = [sorted(0.5 * (r.bounds()[1] + r.bounds()[3]) for r in column) for column in columns]
     np.testing.assert_allclose(centres[0], (np.arange(3) + 0.5) * ROW_PITCH)
@@ -55,7 +55,7 @@ def test_staggered_columns_are_shifted_by_half_a_pitch_and_cut_by_the_periodic_s
 
 
 def test_a_trap_gap_moves_the_upstream_half_of_the_layers_upstream():
-    scene = cases.get("blast_array", shape="square", layers=6, trap_gap=0.08, standoff=0.17, blast="strong")
+    scene = partmesh.scene("blast_array", shape="square", layers=6, trap_gap=0.08, standoff=0.17, blast="strong")
     x = [0.5 * (c[0].bounds()[0] + c[0].bounds()[2]) for c in _columns(scene)]
     np.testing.assert_allclose(np.diff(x), [0.04, 0.04, 0.12, 0.04, 0.04])
     assert x[-1] + 0.5 * SIZE == pytest.approx(1.0 - 0.17)
@@ -63,7 +63,7 @@ def test_a_trap_gap_moves_the_upstream_half_of_the_layers_upstream():
 
 
 def test_more_layers_are_added_upstream():
-    three, seven = (cases.get("blast_array", layers=n) for n in (3, 7))
+    three, seven = (partmesh.scene("blast_array", layers=n) for n in (3, 7))
     assert max(r.bounds()[2] for r in seven.obstacles) == max(r.bounds()[2] for r in three.obstacles)
     assert min(r.bounds()[0] for r in seven.obstacles) == pytest.approx(
         min(r.bounds()[0] for r in three.obstacles) - 4 * 0.04)
@@ -80,7 +80,7 @@ def test_more_layers_are_added_upstream():
 ])
 def test_bad_geometry_is_refused_in_one_sentence(settings, message):
     with pytest.raises(InputError, match=message):
-        cases.get("blast_array", **settings)
+        partmesh.scene("blast_array", **settings)
 
 
 def test_sph_joins_rods_cut_by_the_periodic_sides():
@@ -89,8 +89,8 @@ def test_sph_joins_rods_cut_by_the_periodic_sides():
     flow at rest around them is periodic with the row pitch to round-off
     (it differs by 1e-3 in density where the wall particles at the seam
     see the fluid on one side only)."""
-    scene = cases.get("blast_array", arrangement="staggered")
-    ds = cases.run(scene, "sph", dx=2e-3, t_end=4e-5, progress=False)
+    scene = partmesh.scene("blast_array", arrangement="staggered")
+    ds = partmesh.run(scene, "sph", dx=2e-3, t_end=4e-5, progress=False)
     rho = ds["rho"].isel(time=-1).sel(x=slice(0.5, 0.75)).values
     rows = int(round(ROW_PITCH / float(ds.y[1] - ds.y[0])))
     assert rho.shape[0] == 3 * rows

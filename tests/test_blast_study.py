@@ -1,4 +1,4 @@
-"""The blast-array study (cases.blast_study, ``partmesh study``): its
+"""The blast-array study (partmesh.blast_study, ``partmesh study``): its
 configurations, the wall-load table, rankings and their correlation, and
 a small study end to end whose physics can be checked: any rod array
 shields the wall."""
@@ -12,13 +12,13 @@ import pytest
 import xarray as xr
 from scipy.stats import spearmanr
 
-import cases
-from cases.blast import wall_load_metrics
-from cases.blast_study import PARTS, TRAP_GAPS, configurations, run_study
-from cases.errors import InputError
-from cases.shapes import SHAPES
-from compare import exact
-from compare.report import agreement, rank_correlation, ranking, wall_load_table
+import partmesh
+from partmesh.cases.blast import wall_load_metrics
+from partmesh.blast_study import PARTS, TRAP_GAPS, configurations, run_study
+from partmesh.cases.errors import InputError
+from partmesh.cases.shapes import SHAPES
+from partmesh.compare import exact
+from partmesh.compare.report import agreement, rank_correlation, ranking, wall_load_table
 
 
 def test_the_moderate_part_is_the_seed_studys_eleven_configurations():
@@ -42,7 +42,7 @@ def test_sph_runs_the_strong_traps_on_the_whole_channel_and_the_rest_on_one_row_
                 continue
             whole = method == "sph" and "trap (strong)" in c.label
             assert values == {**dict(c.parameters), "one_period": not whole}
-            y0, y1 = cases.get(c.case, **values).domain[1]
+            y0, y1 = partmesh.scene(c.case, **values).domain[1]
             assert y1 - y0 == pytest.approx(0.12 if whole else 0.04)
 
 
@@ -50,9 +50,9 @@ def test_every_configuration_builds_its_scene_and_is_named_once():
     every = configurations(PARTS)
     assert len({c.label for c in every}) == len(every)
     for c in every:
-        scene = cases.get(c.case, **dict(c.parameters))
+        scene = partmesh.scene(c.case, **dict(c.parameters))
         assert scene.t_end == pytest.approx(2e-3 if "strong" in c.label else 3e-3)
-    trap = cases.get("blast_array", **dict(next(c for c in every if c.label == "square inline trap").parameters))
+    trap = partmesh.scene("blast_array", **dict(next(c for c in every if c.label == "square inline trap").parameters))
     faces = sorted({round(r.bounds()[0], 9) for r in trap.obstacles})
     gaps = np.diff(faces)
     assert len(faces) == 6 and gaps[2] == pytest.approx(gaps[0] + 0.08)  # two sets of three, 0.08 m apart
@@ -71,7 +71,7 @@ def test_one_array_is_one_run_whatever_part_names_it():
     assert shared == [[f"{s} staggered", f"{s} staggered 3 layers", f"{s} staggered standoff 0.34"]
                       for s in ("square", "triangle_right")]
     # each label's scene differs from the base array only as its label says
-    scenes = {c.label: cases.get(c.case, **dict(c.parameters)) for c in every}
+    scenes = {c.label: partmesh.scene(c.case, **dict(c.parameters)) for c in every}
     base = scenes["square staggered"].parameters
     for label, changes in {"square staggered 7 layers": {"layers": 7},
                            "square staggered standoff 0.51": {"standoff": 0.51},
@@ -87,7 +87,7 @@ def test_one_array_is_one_run_whatever_part_names_it():
 def test_the_seed_studys_variants_are_staggered_and_the_recorded_ones_inline():
     for part in ("layers", "standoff", "trap", "strong", "variants_inline"):
         arrays = [c for c in configurations((part,)) if c.case == "blast_array"]
-        arrangements = {cases.get(c.case, **dict(c.parameters)).parameters["arrangement"] for c in arrays}
+        arrangements = {partmesh.scene(c.case, **dict(c.parameters)).parameters["arrangement"] for c in arrays}
         assert arrangements == {"inline" if part == "variants_inline" else "staggered"}, part
         assert all(c.part == part for c in arrays)
     assert [c.label for c in configurations(("trap",)) if c.label.startswith("square")] == [
@@ -96,7 +96,7 @@ def test_the_seed_studys_variants_are_staggered_and_the_recorded_ones_inline():
 
 def test_the_no_obstacle_channel_is_as_high_as_the_array_channel():
     open_channel, array = configurations(("moderate",))[:2]
-    assert dict(open_channel.parameters)["height"] == pytest.approx(cases.get("blast_array").domain[1][1])
+    assert dict(open_channel.parameters)["height"] == pytest.approx(partmesh.scene("blast_array").domain[1][1])
 
 
 def _wall_record(t, p_over_peak, spike, height):
@@ -196,7 +196,7 @@ def test_a_small_study_ranks_the_open_channel_last(tmp_path):
 
 
 def test_a_run_that_ends_before_the_blast_reaches_the_wall_keeps_its_result():
-    ds = cases.run(cases.get("blast_wall", dim=1), "fv", dx=4e-3, t_end=5e-4, progress=False)
+    ds = partmesh.run(partmesh.scene("blast_wall", dim=1), "fv", dx=4e-3, t_end=5e-4, progress=False)
     assert ds.attrs["status"] == "ok"
     for key in ("wall_peak_pressure_fitted", "wall_arrival_time", "wall_force_peak_fitted"):
         assert math.isnan(ds.attrs[key])
@@ -204,7 +204,7 @@ def test_a_run_that_ends_before_the_blast_reaches_the_wall_keeps_its_result():
 
 
 def test_study_command_refuses_a_spacing_for_a_method_it_does_not_run(tmp_path, capsys):
-    from cases.cli import main
+    from partmesh.cli import main
 
     assert main(["study", "-m", "fv", "--dx", "sph=1e-3", "-o", str(tmp_path)]) == 2
     assert capsys.readouterr().err.strip() == "partmesh: --dx expects METHOD=DX[,DX...] for one of fv, got 'sph=1e-3'."
@@ -212,7 +212,7 @@ def test_study_command_refuses_a_spacing_for_a_method_it_does_not_run(tmp_path, 
 
 
 def test_a_resolution_study_gives_the_gci_and_the_error_against_the_finest_fv_run(tmp_path):
-    from cases.blast_study import run_sensitivity
+    from partmesh.blast_study import run_sensitivity
 
     df = run_sensitivity({"fv": [5e-3, 4e-3, 2e-3]}, tmp_path, workers=2, progress=False)
     df = df.sort_values("dx", ascending=False)

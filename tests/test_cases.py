@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-import cases
-from cases.scene import Inflow, Scene, WaterScene
+import partmesh
+from partmesh.cases.scene import Inflow, Scene, WaterScene
 
 REQUIRED_SCENES = ("sod", "shock_reflection", "wedge", "sedov", "noh", "blast_wall", "cylinder_shock")
 
@@ -23,7 +23,7 @@ REQUIRED_PARAMETERS = {
 
 
 def test_registry_lists_the_spec_scenes():
-    names = cases.names()
+    names = partmesh.scenes()
     assert names == sorted(names)
     for name in REQUIRED_SCENES:
         assert name in names
@@ -31,20 +31,20 @@ def test_registry_lists_the_spec_scenes():
 
 @pytest.mark.parametrize("name", REQUIRED_SCENES)
 def test_required_parameters_exist(name):
-    params = cases.defaults(name)
+    params = partmesh.scene_parameters(name)
     for key in REQUIRED_PARAMETERS.get(name, ()):
         assert key in params, f"{name} lacks parameter {key}"
 
 
-@pytest.fixture(scope="module", params=sorted(set(cases.names()) | set(REQUIRED_SCENES)))
+@pytest.fixture(scope="module", params=sorted(set(partmesh.scenes()) | set(REQUIRED_SCENES)))
 def default_scene(request):
-    return cases.get(request.param)
+    return partmesh.scene(request.param)
 
 
 def test_every_scene_builds_with_defaults(default_scene):
     scene = default_scene
     assert isinstance(scene, (Scene, WaterScene))
-    assert scene.name in cases.names()
+    assert scene.name in partmesh.scenes()
     assert scene.dim in (1, 2) and len(scene.domain) == scene.dim
     for side in scene.sides:
         bc = scene.boundaries[side]
@@ -94,7 +94,7 @@ def test_initial_state_is_physical(default_scene):
 
 
 def test_sod_defaults_are_sods():
-    s = cases.get("sod")
+    s = partmesh.scene("sod")
     p = s.parameters
     assert (p["left_rho"], p["left_u"], p["left_p"]) == (1.0, 0.0, 1.0)
     assert (p["right_rho"], p["right_u"], p["right_p"]) == (0.125, 0.0, 0.1)
@@ -106,9 +106,9 @@ def test_sod_defaults_are_sods():
 
 
 def test_sod_presets_are_toros():
-    strong = cases.get("sod", preset="strong_shock").parameters
+    strong = partmesh.scene("sod", preset="strong_shock").parameters
     assert strong["left_p"] / strong["right_p"] == pytest.approx(1e5)
-    t123 = cases.get("sod", preset="toro123").parameters
+    t123 = partmesh.scene("sod", preset="toro123").parameters
     assert (t123["left_u"], t123["right_u"]) == (-2.0, 2.0)
     assert t123["left_p"] == t123["right_p"] == 0.4
 
@@ -116,7 +116,7 @@ def test_sod_presets_are_toros():
 def test_shock_reflection_inflow_is_the_published_post_shock_state():
     """SPEC §4.1: at Ms = 3.2 into rho0 = 1.225, p0 = 101325 the post-shock
     state is rho = 4.03 rho0, p = 11.78 p0, u = 818.83 m/s."""
-    s = cases.get("shock_reflection", Ms=3.2)
+    s = partmesh.scene("shock_reflection", Ms=3.2)
     assert (s.parameters["rho0"], s.parameters["p0"]) == (1.225, 101325.0)
     inflow = s.boundaries["x_lo"]
     assert isinstance(inflow, Inflow)
@@ -131,12 +131,12 @@ def test_shock_reflection_inflow_is_the_published_post_shock_state():
 
 
 def test_shock_reflection_2d_domain():
-    s = cases.get("shock_reflection", dim=2)
+    s = partmesh.scene("shock_reflection", dim=2)
     assert s.domain == ((0.0, 0.5), (0.0, 0.125))
 
 
 def test_wedge_defaults():
-    s = cases.get("wedge")
+    s = partmesh.scene("wedge")
     assert s.parameters["M1"] == 3.5 and s.parameters["theta_deg"] in (10.0, 20.0, 30.0)
     rho, u, _, p = s.boundaries["x_lo"].state(0.0)
     assert u / math.sqrt(1.4 * p / rho) == pytest.approx(3.5, rel=1e-12)
@@ -144,7 +144,7 @@ def test_wedge_defaults():
 
 
 def test_sedov_domain_and_symmetric_energy_deposit():
-    s = cases.get("sedov")
+    s = partmesh.scene("sedov")
     assert s.domain == ((-1.0, 1.0), (-1.0, 1.0))
     assert all(s.boundaries[side] == "reflect" for side in s.sides)
     # the deposited internal energy integrates to E
@@ -159,7 +159,7 @@ def test_sedov_domain_and_symmetric_energy_deposit():
 
 
 def test_noh_defaults_and_initial_velocity():
-    s = cases.get("noh")
+    s = partmesh.scene("noh")
     p = s.parameters
     assert p["gamma"] == pytest.approx(5.0 / 3.0) and p["rho0"] == 1.0 and p["u0"] == 1.0
     X, Y = np.meshgrid([0.1, 0.5, 0.9], [0.2, 0.7])
@@ -170,7 +170,7 @@ def test_noh_defaults_and_initial_velocity():
 
 
 def test_cylinder_shock_defaults():
-    s = cases.get("cylinder_shock")
+    s = partmesh.scene("cylinder_shock")
     assert s.parameters["Ms"] == 1.16 and s.parameters["diameter"] == 0.015
     (body,) = s.obstacles
     x0, y0, x1, y1 = body.bounds()  # (xmin, ymin, xmax, ymax)
@@ -193,14 +193,14 @@ BLASTS = {"moderate": (10.924, 0.473e-3, 4.0), "strong": (100.924, 0.5e-3, 2.72)
 
 
 def test_blast_wall_geometry_and_wall_probe():
-    s = cases.get("blast_wall")
+    s = partmesh.scene("blast_wall")
     assert s.dim == 1 and s.domain == ((0.0, 1.0),)
     assert (s.parameters["rho0"], s.parameters["p0"], s.gamma) == (1.0, 1.0e5, 1.4)
     probes = {pr.name: pr for pr in s.probes}
     assert probes["w"].x == pytest.approx(1.0)
     assert s.boundaries["x_hi"] == "reflect"
     assert s.wall is not None and s.wall.side == "x_hi"
-    s2 = cases.get("blast_wall", dim=2)
+    s2 = partmesh.scene("blast_wall", dim=2)
     assert s2.dim == 2 and s2.domain[0] == (0.0, 1.0)
     assert {pr.name: pr for pr in s2.probes}["w"].x == pytest.approx(1.0)
 
@@ -208,7 +208,7 @@ def test_blast_wall_geometry_and_wall_probe():
 @pytest.mark.parametrize("blast", ["moderate", "strong"])
 def test_blast_wall_inflow_is_rankine_hugoniot_of_friedlander(blast):
     ratio, t_plus, alpha = BLASTS[blast]
-    s = cases.get("blast_wall", blast=blast)
+    s = partmesh.scene("blast_wall", blast=blast)
     inflow = s.boundaries["x_lo"]
     p0 = 1.0e5
     for t in (0.0, 0.1 * t_plus, 0.5 * t_plus, 0.9 * t_plus):
@@ -225,30 +225,30 @@ def test_blast_wall_inflow_is_rankine_hugoniot_of_friedlander(blast):
 @pytest.mark.parametrize("blast", ["moderate", "strong"])
 def test_blast_wall_negative_phase_none_returns_to_ambient(blast):
     _, t_plus, _ = BLASTS[blast]
-    s = cases.get("blast_wall", blast=blast, negative_phase="none")
+    s = partmesh.scene("blast_wall", blast=blast, negative_phase="none")
     for t in (1.01 * t_plus, 2 * t_plus, 5 * t_plus):
         assert s.boundaries["x_lo"].state(t) == pytest.approx((1.0, 0.0, 0.0, 1.0e5), abs=1e-9)
 
 
 def test_blast_wall_friedlander_negative_phase_is_an_underpressure():
     _, t_plus, _ = BLASTS["moderate"]
-    s = cases.get("blast_wall", negative_phase="friedlander")
+    s = partmesh.scene("blast_wall", negative_phase="friedlander")
     rho, u, _, p = s.boundaries["x_lo"].state(1.5 * t_plus)
     assert p < 1.0e5 and rho < 1.0 and u < 0.0
 
 
 def test_string_overrides_are_converted():
-    s = cases.get("sod", left_rho="2.0", nx_out="200", x0="0.25")
+    s = partmesh.scene("sod", left_rho="2.0", nx_out="200", x0="0.25")
     assert s.parameters["left_rho"] == 2.0 and isinstance(s.parameters["left_rho"], float)
     assert s.parameters["nx_out"] == 200 and s.output.shape == (200,)
     assert s.parameters["x0"] == 0.25
-    r = cases.get("shock_reflection", Ms="1.5", dim="2")
+    r = partmesh.scene("shock_reflection", Ms="1.5", dim="2")
     assert r.parameters["Ms"] == 1.5 and r.dim == 2
-    b = cases.get("blast_wall", blast="strong", t_end="1e-3")
+    b = partmesh.scene("blast_wall", blast="strong", t_end="1e-3")
     assert b.t_end == pytest.approx(1e-3)
-    assert cases.get("sod", left_rho="none").parameters["left_rho"] == 1.0  # "none" = the preset's value
+    assert partmesh.scene("sod", left_rho="none").parameters["left_rho"] == 1.0  # "none" = the preset's value
     # a yes/no parameter reads the words that checkpoint's resume reads, and refuses any other
-    assert cases.get("blast_array", one_period="false").parameters["one_period"] is False
-    assert cases.get("blast_array", one_period="Yes").parameters["one_period"] is True
-    with pytest.raises(cases.InputError, match="blast_array: parameter one_period must be true or false, got 'ture'"):
-        cases.get("blast_array", one_period="ture")
+    assert partmesh.scene("blast_array", one_period="false").parameters["one_period"] is False
+    assert partmesh.scene("blast_array", one_period="Yes").parameters["one_period"] is True
+    with pytest.raises(partmesh.InputError, match="blast_array: parameter one_period must be true or false, got 'ture'"):
+        partmesh.scene("blast_array", one_period="ture")

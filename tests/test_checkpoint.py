@@ -1,4 +1,4 @@
-"""Checkpoint and resume (cases.checkpoint; ``partmesh run --checkpoint-every
+"""Checkpoint and resume (partmesh.cases.checkpoint; ``partmesh run --checkpoint-every
 --resume``): a run stopped by SIGTERM or SIGINT saves its state and its
 partial result, and the resumed run ends with the uninterrupted run's
 result, bit for bit (fv, dsmc, swe) or to round-off carried by the steps
@@ -13,13 +13,13 @@ import time
 import numpy as np
 import pytest
 
-import cases
-from cases.errors import InputError
-from compare.io import read
+import partmesh
+from partmesh.cases.errors import InputError
+from partmesh.compare.io import read
 
 
 def _run_command(case, method, dx, output, extra=()):
-    return [sys.executable, "-m", "cases.cli", "run", case, "-m", method, "--dx", str(dx), "-o", str(output),
+    return [sys.executable, "-m", "partmesh.cli", "run", case, "-m", method, "--dx", str(dx), "-o", str(output),
             "--quiet", *extra]
 
 
@@ -45,11 +45,11 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, case, metho
     assert process.returncode == 3, err  # stopped between steps, with one sentence
     assert f"stopped by {stop.name}" in err and "resume it from" in err
     partial = read(output)
-    assert partial.attrs["status"] == "failed" and partial.time.values[-1] < cases.get(case).t_end
+    assert partial.attrs["status"] == "failed" and partial.time.values[-1] < partmesh.scene(case).t_end
     resumed = subprocess.run(_run_command(case, method, dx, output, (*extra, "--resume")), capture_output=True, text=True)
     assert resumed.returncode == 0, resumed.stderr
     assert not checkpoint.exists()  # a complete run leaves no checkpoint behind
-    whole = cases.run(case, method, dx=dx, progress=False, **settings)
+    whole = partmesh.run(case, method, dx=dx, progress=False, **settings)
     result = read(output)
     assert result.attrs["status"] == "ok" and result.attrs["n_steps"] == whole.attrs["n_steps"]
     for name in whole.data_vars:
@@ -68,30 +68,30 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, case, metho
 
 
 def test_resume_refuses_a_missing_or_foreign_checkpoint(tmp_path):
-    scene = cases.get("sod", nx_out=50)
+    scene = partmesh.scene("sod", nx_out=50)
     path = tmp_path / "a.checkpoint"
     with pytest.raises(InputError, match="cannot resume: checkpoint .* does not exist"):
-        cases.run(scene, "fv", dx=0.02, checkpoint=path, resume=True, progress=False)
+        partmesh.run(scene, "fv", dx=0.02, checkpoint=path, resume=True, progress=False)
     with pytest.raises(InputError, match="resume needs a checkpoint file"):
-        cases.run(scene, "dsmc", dx=0.02, resume=True, progress=False)
+        partmesh.run(scene, "dsmc", dx=0.02, resume=True, progress=False)
     # a run that checkpoints every step leaves its last state; another setting may not resume from it
-    cases.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=1e-9, progress=False)
+    partmesh.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=1e-9, progress=False)
     assert path.exists()
     with pytest.raises(InputError, match="another scene, method or settings"):
-        cases.run(scene, "fv", dx=0.02, cfl=0.5, checkpoint=path, resume=True, progress=False)
+        partmesh.run(scene, "fv", dx=0.02, cfl=0.5, checkpoint=path, resume=True, progress=False)
     with pytest.raises(InputError, match="checkpoint_every must be a finite number > 0"):
-        cases.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=0.0, progress=False)
+        partmesh.run(scene, "fv", dx=0.02, checkpoint=path, checkpoint_every=0.0, progress=False)
 
 
 def test_resume_given_as_text_means_what_it_says(tmp_path):
     """``--option resume=false`` reaches the solver as the text 'false',
     which must start afresh, not resume (any non-empty text is truthy);
     a word that is neither true nor false is refused."""
-    scene = cases.get("sod", nx_out=50)
+    scene = partmesh.scene("sod", nx_out=50)
     path = tmp_path / "none_yet.checkpoint"
-    fresh = cases.run(scene, "fv", dx=0.02, checkpoint=path, resume="false", progress=False)
+    fresh = partmesh.run(scene, "fv", dx=0.02, checkpoint=path, resume="false", progress=False)
     assert fresh.attrs["status"] == "ok"
     with pytest.raises(InputError, match="cannot resume: checkpoint .* does not exist"):
-        cases.run(scene, "fv", dx=0.02, checkpoint=tmp_path / "other.checkpoint", resume="True", progress=False)
+        partmesh.run(scene, "fv", dx=0.02, checkpoint=tmp_path / "other.checkpoint", resume="True", progress=False)
     with pytest.raises(InputError, match="resume must be true or false, got 'maybe'"):
-        cases.run(scene, "fv", dx=0.02, checkpoint=path, resume="maybe", progress=False)
+        partmesh.run(scene, "fv", dx=0.02, checkpoint=path, resume="maybe", progress=False)

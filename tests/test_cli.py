@@ -1,5 +1,5 @@
 """The ``partmesh`` command line (SPEC §6), run as a subprocess with the
-interpreter running the tests (``python -m cases.cli`` is the console
+interpreter running the tests (``python -m partmesh.cli`` is the console
 script's ``main``)."""
 
 from __future__ import annotations
@@ -13,12 +13,12 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-import cases
-import compare
+import partmesh
+import partmesh.compare
 
 
 def cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "cases.cli", *args], check=False, cwd=cwd, capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "partmesh.cli", *args], check=False, cwd=cwd, capture_output=True, text=True,
                           timeout=600)
 
 
@@ -76,7 +76,7 @@ def test_compare_against_exact_writes_the_independent_error(workdir, sod_file):
         t = float(ds.time[-1])
         rho = ds.rho.isel(time=-1).values
         x = ds.x.values
-    reference = cases.get("sod").exact([t])
+    reference = partmesh.scene("sod").exact([t])
     np.testing.assert_allclose(reference.x.values, x, rtol=0, atol=1e-14)
     expected = float(np.mean(np.abs(rho - reference.rho.isel(time=0).values)))
     assert 1e-4 < expected < 1e-2
@@ -94,7 +94,7 @@ def test_compare_a_2d_point_blast_against_its_exact_solution(workdir, sedov_file
     rows = json.loads((workdir / "tmp" / "rep_sedov" / "summary.json").read_text())
     with xr.open_dataset(sedov_file, engine="netcdf4") as ds:
         rho = ds.rho.isel(time=-1).values
-    exact = cases.get("sedov", n_out=32, E=2.0, t_end=0.05).exact([0.05]).rho.isel(time=0).values
+    exact = partmesh.scene("sedov", n_out=32, E=2.0, t_end=0.05).exact([0.05]).rho.isel(time=0).values
     assert rows[0]["error_time"] == pytest.approx(0.05)
     assert rows[0]["rho_L1"] == pytest.approx(float(np.mean(np.abs(rho - exact))), rel=1e-9)
 
@@ -119,7 +119,7 @@ def test_cases_lists_every_scene(tmp_path):
     done = cli("cases", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     listed = {line.split(":")[0] for line in done.stdout.splitlines() if line and not line.startswith(" ")}
-    assert set(cases.names()) <= listed
+    assert set(partmesh.scenes()) <= listed
     for name in ("sod", "shock_reflection", "wedge", "sedov", "noh", "blast_wall", "cylinder_shock"):
         assert name in listed
     assert "left_rho" in done.stdout and "theta_deg" in done.stdout  # parameters are listed too
@@ -128,9 +128,9 @@ def test_cases_lists_every_scene(tmp_path):
 def test_solver_options_from_the_command_line_arrive_as_numbers(tmp_path):
     # --option values are strings on the command line; the solvers must use the validated numbers
     out = tmp_path / "sod_opt.nc"
-    proc = subprocess.run([sys.executable, "-m", "cases.cli", "run", "sod", "--method", "fv", "--dx", "5e-3",
+    proc = subprocess.run([sys.executable, "-m", "partmesh.cli", "run", "sod", "--method", "fv", "--dx", "5e-3",
                            "--option", "cfl=0.4", "--option", "limiter=minmod", "-o", str(out), "--quiet"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
-    solver = json.loads(compare.read(out).attrs["parameters"])["solver"]
+    solver = json.loads(partmesh.read(out).attrs["parameters"])["solver"]
     assert solver["cfl"] == 0.4 and solver["limiter"] == "minmod"

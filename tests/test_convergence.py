@@ -1,11 +1,11 @@
-"""Grid convergence (compare.convergence): observed order, Richardson, GCI."""
+"""Grid convergence (partmesh.compare.convergence): observed order, Richardson, GCI."""
 
 import math
 
 import numpy as np
 import pytest
 
-from compare.convergence import gci, observed_order, observed_order_three, richardson
+from partmesh.compare.convergence import gci, observed_order, observed_order_three, richardson
 
 # --- Celik et al. 2008, J. Fluids Eng. 130, 078001, Table 1 -----------------
 # Column 1 (dimensionless reattachment length, monotonic convergence):

@@ -1,4 +1,4 @@
-"""Particle → output-grid deposition (compare.deposit): Shepard interpolation
+"""Particle → output-grid deposition (partmesh.compare.deposit): Shepard interpolation
 for SPH, cell sums and ideal-gas moments for DSMC."""
 
 from __future__ import annotations
@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from compare.checks import InputError
-from compare.deposit import cell_average, moments_to_primitive, shepard
+from partmesh.compare.checks import InputError
+from partmesh.compare.deposit import cell_average, moments_to_primitive, shepard
 
 # --- kernels written here (the solver passes its own) -----------------------
 
@@ -481,7 +481,7 @@ def test_compare_deposit_imports_no_other_partmesh_package():
     import subprocess
     import sys
 
-    code = ("import sys, compare.deposit; "
+    code = ("import sys, partmesh.compare.deposit; "
             "bad = [m for m in ('cases', 'gridref', 'particle') if m in sys.modules]; "
             "sys.exit(1 if bad else 0)")
     assert subprocess.run([sys.executable, "-c", code], check=False).returncode == 0

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-import cases
-from compare.metrics import field_error
-from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.solve import landing_step
+import partmesh
+from partmesh.compare.metrics import field_error
+from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
+from partmesh.particle.dsmc.solve import landing_step
 
 
 def test_specular_reflection_folds_the_path_back_and_counts_the_momentum():
@@ -40,8 +40,8 @@ def test_periodic_wrap_and_open_sides_in_2d():
 
 def test_closed_box_keeps_every_particle_and_the_energy_to_round_off():
     # Sedov in its reflecting box: specular walls and the redraw conserve energy exactly
-    scene = cases.get("sedov", n_out=32, t_end=0.08)
-    ds = cases.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
+    scene = partmesh.scene("sedov", n_out=32, t_end=0.08)
+    ds = partmesh.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
     volume = 4.0 / 32**2
     mass = (ds["rho"] * volume).sum(dim=("x", "y"))
     assert float(np.abs(mass / mass[0] - 1).max()) < 1e-14
@@ -55,8 +55,8 @@ def test_sod_density_near_exact_at_a_coarse_resolution():
     # 100 cells, 100 particles per cell on the low-density side, moments over
     # 20 steps: measured L1(rho) 0.052-0.058 over three seeds (scatter and the
     # dissipation of the cell size); a collisionless gas (no redraw) is far off
-    scene = cases.get("sod")
-    ds = cases.run(scene, "dsmc", dx=1 / 100, ppc=100, window=20, progress=False)
+    scene = partmesh.scene("sod")
+    ds = partmesh.run(scene, "dsmc", dx=1 / 100, ppc=100, window=20, progress=False)
     exact = scene.exact(ds.time.values)
     assert field_error(ds["rho"].isel(time=-1), exact["rho"].isel(time=-1)) < 0.07
 
@@ -65,11 +65,11 @@ def test_sod_density_near_exact_at_a_coarse_resolution():
 def test_same_seed_same_run_at_any_thread_count_other_seed_other_run(collisions):
     import numba
 
-    scene = cases.get("shock_reflection", Ms=2.0, dim=2)  # inflow reservoir, reflecting end wall
+    scene = partmesh.scene("shock_reflection", Ms=2.0, dim=2)  # inflow reservoir, reflecting end wall
     runs = []
     for seed, threads in ((3, numba.config.NUMBA_NUM_THREADS), (3, 1), (4, numba.config.NUMBA_NUM_THREADS)):
         numba.set_num_threads(threads)
-        runs.append(cases.run(scene, "dsmc", dx=5e-3, ppc=10, seed=seed, t_end=5e-5, progress=False, **collisions))
+        runs.append(partmesh.run(scene, "dsmc", dx=5e-3, ppc=10, seed=seed, t_end=5e-5, progress=False, **collisions))
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     a, b, c = runs
     for field in ("rho", "u", "v", "p"):
@@ -80,8 +80,8 @@ def test_same_seed_same_run_at_any_thread_count_other_seed_other_run(collisions)
 
 
 def test_obstacle_reflection_is_specular_and_leaves_no_particle_inside():
-    from cases.shapes import circle, square
-    from particle.dsmc.walls import fly_past_obstacles, obstacle_polygons, push_out_of_obstacles
+    from partmesh.cases.shapes import circle, square
+    from partmesh.particle.dsmc.walls import fly_past_obstacles, obstacle_polygons, push_out_of_obstacles
 
     body = square(0.5, 0.5, 0.2)  # the solid [0.4, 0.6]²
     seg, nrm, start, bbox = obstacle_polygons([body], 0.01)
@@ -118,8 +118,8 @@ def test_safeguard_mirrors_points_out_of_whichever_body_holds_them():
     """Points strictly inside any of several bodies are found (against the
     bodies' exact signed distance) and mirrored across the nearest face:
     back outside, at the same distance from it; points outside stay put."""
-    from cases.shapes import circle, square
-    from particle.dsmc.walls import inside_obstacles, obstacle_polygons, push_out_of_obstacles
+    from partmesh.cases.shapes import circle, square
+    from partmesh.particle.dsmc.walls import inside_obstacles, obstacle_polygons, push_out_of_obstacles
 
     bodies = [square(0.2, 0.5, 0.2), circle(0.5, 0.5, 0.15), square(0.8, 0.3, 0.1)]
     seg, nrm, start, bbox = obstacle_polygons(bodies, 1e-3)
@@ -145,11 +145,11 @@ def test_safeguard_mirrors_points_out_of_whichever_body_holds_them():
 def test_closed_box_with_an_obstacle_keeps_mass_and_energy_and_no_particle_inside():
     import dataclasses
 
-    from cases.shapes import circle
+    from partmesh.cases.shapes import circle
 
     # the Sedov blast hits a disc: specular polygon walls conserve energy exactly
-    scene = dataclasses.replace(cases.get("sedov", n_out=32, t_end=0.15), obstacles=(circle(0.0, 0.45, 0.2),))
-    ds = cases.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
+    scene = dataclasses.replace(partmesh.scene("sedov", n_out=32, t_end=0.15), obstacles=(circle(0.0, 0.45, 0.2),))
+    ds = partmesh.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
     assert ds.attrs["mass_drift"] == 0.0
     assert ds.attrs["energy_drift"] < 1e-12
     assert ds.attrs["particles_in_solids"] == 0
@@ -160,7 +160,7 @@ def test_closed_box_with_an_obstacle_keeps_mass_and_energy_and_no_particle_insid
 
 @pytest.mark.parametrize("normal", [1.0, -1.0])
 def test_outflow_far_field_state_carries_each_characteristic_from_its_side(normal):
-    from particle.dsmc.solve import far_field_state
+    from partmesh.particle.dsmc.far_field import far_field_state
 
     g = 1.4
     far = (1.2, 0.0, 5.0, 1e5)
@@ -188,8 +188,8 @@ def test_outflow_far_field_state_carries_each_characteristic_from_its_side(norma
 
 def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     # a uniform gas at rest between two outflow sides: neither the boundary state nor the mass may drift
-    scene = cases.get("sod", right_rho=1.0, right_p=1.0, nx_out=50)
-    ds = cases.run(scene, "dsmc", dx=1 / 50, ppc=200, window=10, progress=False)
+    scene = partmesh.scene("sod", right_rho=1.0, right_p=1.0, nx_out=50)
+    ds = partmesh.run(scene, "dsmc", dx=1 / 50, ppc=200, window=10, progress=False)
     rho, p, u = (ds[q].isel(time=-1).values for q in ("rho", "p", "u"))
     # 200 particles per cell, 10 correlated samples: ~ 5 % scatter per cell (a reservoir copying the last
     # sample drifted to 0.4 and 1.5 next to the sides)
@@ -197,20 +197,20 @@ def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     assert np.abs(u).max() < 0.2 and abs(p.mean() - 1.0) < 0.03
     # the mean over 8 seeds at 400 cells x 30 particles: +0.3 +- 0.15 %; a reservoir taking its entropy from
     # the noisy layer inside lost 1.6 +- 0.4 %
-    scene = cases.get("sod", right_rho=1.0, right_p=1.0, nx_out=400)
-    mass = [cases.run(scene, "dsmc", dx=1 / 400, ppc=30, seed=s, progress=False)["rho"].isel(time=-1).mean() for s in range(8)]
+    scene = partmesh.scene("sod", right_rho=1.0, right_p=1.0, nx_out=400)
+    mass = [partmesh.run(scene, "dsmc", dx=1 / 400, ppc=30, seed=s, progress=False)["rho"].isel(time=-1).mean() for s in range(8)]
     assert abs(np.mean(mass) - 1.0) < 0.008
 
 
 def test_closed_box_with_obstacles_keeps_every_particle_outside_them_for_10000_steps():
     import dataclasses
 
-    from cases.shapes import circle, diamond, square, triangle_right
-    from particle.dsmc.solve import _Gas
+    from partmesh.cases.shapes import circle, diamond, square, triangle_right
+    from partmesh.particle.dsmc.solve import _Gas
 
     # a Sedov blast in a closed box among four bodies with corners and curved faces
     bodies = (circle(0.0, 0.45, 0.2), square(-0.5, -0.5, 0.3), triangle_right(0.5, -0.4, 0.3), diamond(-0.5, 0.5, 0.25))
-    scene = dataclasses.replace(cases.get("sedov", n_out=32), obstacles=bodies)
+    scene = dataclasses.replace(partmesh.scene("sedov", n_out=32), obstacles=bodies)
     gas = _Gas(scene, 2.0 / 32, 10, 2.0, seed=3)
     count, t = gas.x.shape[0], 0.0
     mass0, energy0 = gas.totals()
@@ -230,10 +230,10 @@ def test_closed_box_with_obstacles_keeps_every_particle_outside_them_for_10000_s
 
 
 def test_frames_on_the_run_grid_take_the_steps_cell_sums():
-    from particle.dsmc.solve import _Gas
+    from partmesh.particle.dsmc.solve import _Gas
 
     # after steps, the sums the redraw recorded are the moments of the particles as they stand
-    scene = cases.get("shock_reflection", Ms=2.0, dim=2)
+    scene = partmesh.scene("shock_reflection", Ms=2.0, dim=2)
     gas = _Gas(scene, scene.dx, 10, 2.0, seed=1)
     for n in range(3):
         gas.step(n * 1e-6, 1e-6, n)

@@ -1,4 +1,4 @@
-"""True DSMC collisions (particle.dsmc.collide; the solver's
+"""True DSMC collisions (partmesh.particle.dsmc.collide; the solver's
 collisions="larsen-borgnakke"): exact conservation per collision, the
 collision rate of VHS molecules, the Larsen–Borgnakke relaxation rate and
 its equilibrium, and the two limits of the solver: free-molecular flow for
@@ -11,9 +11,9 @@ import pytest
 from scipy import special, stats
 from test_dsmc_equilibrate import _cells, _moments
 
-import cases
-from cases.errors import InputError
-from particle.dsmc.collide import collide
+import partmesh
+from partmesh.cases.errors import InputError
+from partmesh.particle.dsmc.collide import collide
 
 
 def _collide(v, e, start, dt, sigma, g_ref, omega, zeta, seed, step, sigma_g_max, z_rot=5.0):
@@ -116,8 +116,8 @@ def test_rotation_relaxes_at_the_larsen_borgnakke_rate_to_equipartition(omega):
 
 def test_long_mean_free_path_gives_free_molecular_flow():
     # collisionless: each side's Maxwellian streams across, ρ(x, t) = Σ ρ_s ½ erfc(±(x − x0)/(√(2θ_s) t))
-    scene = cases.get("sod", nx_out=100)
-    ds = cases.run(scene, "dsmc", dx=1 / 100, ppc=400, seed=2, collisions="larsen-borgnakke", mean_free_path=1e3,
+    scene = partmesh.scene("sod", nx_out=100)
+    ds = partmesh.run(scene, "dsmc", dx=1 / 100, ppc=400, seed=2, collisions="larsen-borgnakke", mean_free_path=1e3,
                progress=False)
     x, t = ds.x.values, ds.time.values[-1]
     free = (0.5 * special.erfc((x - 0.5) / (math.sqrt(2.0) * t))
@@ -135,8 +135,8 @@ def test_short_mean_free_path_gives_the_euler_shock():
     # the density between rarefaction tail (x ≈ 0.486) and contact (x ≈ 0.685) (0.4263) form as in the Euler
     # solution. The second window keeps clear of the contact, which collisions smear over ~0.02: measured over
     # seeds 0-5 it reads 0.418-0.433 (mean 0.427), where (0.60, 0.65) read 0.405-0.417.
-    scene = cases.get("sod", nx_out=200)
-    ds = cases.run(scene, "dsmc", dx=1 / 200, ppc=100, seed=2, collisions="larsen-borgnakke", mean_free_path=1.25e-3,
+    scene = partmesh.scene("sod", nx_out=200)
+    ds = partmesh.run(scene, "dsmc", dx=1 / 200, ppc=100, seed=2, collisions="larsen-borgnakke", mean_free_path=1.25e-3,
                progress=False)
     x, rho = ds.x.values, ds["rho"].isel(time=-1).values
     assert rho[(x > 0.73) & (x < 0.83)].mean() == pytest.approx(0.2656, rel=0.02)
@@ -144,14 +144,14 @@ def test_short_mean_free_path_gives_the_euler_shock():
 
 
 def test_collision_settings_are_checked():
-    scene = cases.get("sod", nx_out=50)
+    scene = partmesh.scene("sod", nx_out=50)
     with pytest.raises(InputError, match="needs mean_free_path"):
-        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", progress=False)
+        partmesh.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", progress=False)
     with pytest.raises(InputError, match="applies only to collisions='larsen-borgnakke'"):
-        cases.run(scene, "dsmc", dx=1 / 50, mean_free_path=1e-3, progress=False)
+        partmesh.run(scene, "dsmc", dx=1 / 50, mean_free_path=1e-3, progress=False)
     with pytest.raises(InputError, match="continuum limit"):
-        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-6, progress=False)
+        partmesh.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-6, progress=False)
     with pytest.raises(InputError, match="omega must"):
-        cases.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-2, omega=0.3, progress=False)
+        partmesh.run(scene, "dsmc", dx=1 / 50, collisions="larsen-borgnakke", mean_free_path=1e-2, omega=0.3, progress=False)
     with pytest.raises(InputError, match="collisions must be one of"):
-        cases.run(scene, "dsmc", dx=1 / 50, collisions="bgk", progress=False)
+        partmesh.run(scene, "dsmc", dx=1 / 50, collisions="bgk", progress=False)

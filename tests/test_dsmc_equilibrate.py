@@ -1,7 +1,7 @@
-"""The DSMC equilibrium redraw (particle.dsmc.equilibrate): exact
+"""The DSMC equilibrium redraw (partmesh.particle.dsmc.equilibrate): exact
 conservation of each cell's momentum and energy, Maxwellian velocities and
 Gamma-distributed internal energies, reproducibility from the seed; and the
-cell sort it works on (particle.dsmc.cells)."""
+cell sort it works on (partmesh.particle.dsmc.cells)."""
 
 import numba
 import numpy as np
@@ -10,10 +10,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from particle.dsmc.equilibrate import equilibrate
-from particle.dsmc import random
-from particle.dsmc.random import gamma, normal, stream, uniform
-from particle.dsmc.cells import sort_into_cells
+from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc import random
+from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
+from partmesh.particle.dsmc.cells import sort_into_cells
 
 
 def _cells(sizes, rng, bulk=1.0, zeta=2.0):

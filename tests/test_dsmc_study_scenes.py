@@ -1,20 +1,20 @@
-"""The DSMC-study scenes (cases.dsmc_study): their set-up and an FV run of
+"""The DSMC-study scenes (partmesh.cases.dsmc_study): their set-up and an FV run of
 each against what it must show."""
 
 import numpy as np
 import pytest
 
-import cases
-from compare import exact
+import partmesh
+from partmesh.compare import exact
 
 
 def test_balloon_holds_the_driver_pressure_of_its_shock_and_bursts_symmetrically():
-    scene = cases.get("balloon_box")
+    scene = partmesh.scene("balloon_box")
     p0 = scene.parameters["p0"]
     inside = scene.initial(np.array([0.25]), np.array([0.25]), 1e-3)[3]
     assert float(inside[0]) == pytest.approx(exact.driver_pressure(1.2, scene.parameters["rho0"], p0))
     # a square box with the balloon at its centre: the flow is symmetric about the diagonal
-    ds = cases.run(scene, "fv", dx=1e-2, t_end=1e-3, progress=False)
+    ds = partmesh.run(scene, "fv", dx=1e-2, t_end=1e-3, progress=False)
     p = ds["p"].isel(time=-1).values
     assert np.abs(p - p.T).max() <= 1e-9 * p.max()
     # the front reaches the wall 0.2 m away no sooner than at the initial Mach 1.2 (less the
@@ -26,9 +26,9 @@ def test_balloon_holds_the_driver_pressure_of_its_shock_and_bursts_symmetrically
 
 
 def test_shock_cavity_free_stream_sees_the_normal_shock():
-    scene = cases.get("shock_cavity")
+    scene = partmesh.scene("shock_cavity")
     rho1, u1, p1 = exact.normal_shock(1.5, scene.parameters["rho0"], scene.parameters["p0"])
-    ds = cases.run(scene, "fv", dx=2.5e-3, progress=False)
+    ds = partmesh.run(scene, "fv", dx=2.5e-3, progress=False)
     free = ds["p_probe"].sel(probe="free")
     assert float(free.max()) == pytest.approx(p1, rel=0.03)
     # the diffracted shock reaches the cavity floor later than the free stream above it

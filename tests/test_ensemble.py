@@ -1,4 +1,4 @@
-"""Ensembles on Dask (cases.ensemble): K seeds of a stochastic method run on
+"""Ensembles on Dask (partmesh.ensembles): K seeds of a stochastic method run on
 a LocalCluster and averaged as moments, equal to what averaging the member
 runs' moments by hand gives; deterministic methods refuse."""
 
@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from cases.errors import InputError
-from cases.registry import get
-from cases.run import run
+from partmesh.cases.errors import InputError
+from partmesh.cases.registry import get
+from partmesh.dispatch import run
 
 SCENE = dict(nx_out=50)
 SETTINGS = dict(dx=1 / 50, ppc=20, t_end=0.1)

@@ -1,11 +1,11 @@
-"""Noh's implosion (compare.exact.noh): Noh's published states and conservation by quadrature."""
+"""Noh's implosion (partmesh.compare.exact.noh): Noh's published states and conservation by quadrature."""
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from compare.exact import noh, noh_profile
-from compare.schema import validate
+from partmesh.compare.exact import noh, noh_profile
+from partmesh.compare.schema import validate
 
 GEOMETRIES = {"planar": 1, "cylindrical": 2, "spherical": 3}
 MEASURE = {1: 1.0, 2: 2.0 * np.pi, 3: 4.0 * np.pi}  # planar: the half-line r >= 0

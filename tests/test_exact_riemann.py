@@ -1,4 +1,4 @@
-"""Exact Riemann solver (compare.exact.riemann) against Toro (2009), conservation,
+"""Exact Riemann solver (partmesh.compare.exact.riemann) against Toro (2009), conservation,
 jump conditions, vacuum and symmetry properties."""
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from compare.exact import riemann, sample, star_state
-from compare.schema import validate
+from partmesh.compare.exact import riemann, sample, star_state
+from partmesh.compare.schema import validate
 
 GAMMA = 1.4
 SOD = ((1.0, 0.0, 1.0), (0.125, 0.0, 0.1))

@@ -1,4 +1,4 @@
-"""Sedov-Taylor blast (compare.exact.sedov): published energy constants, an
+"""Sedov-Taylor blast (partmesh.compare.exact.sedov): published energy constants, an
 independent ODE integration, jump conditions, and mass and energy by quadrature."""
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import roots_legendre
 
-from compare.exact import sedov, sedov_alpha, sedov_profile, shock_radius
-from compare.schema import validate
+from partmesh.compare.exact import sedov, sedov_alpha, sedov_profile, shock_radius
+from partmesh.compare.schema import validate
 
 GEOMETRIES = {"planar": 1, "cylindrical": 2, "spherical": 3}
 MEASURE = {1: 2.0, 2: 2.0 * np.pi, 3: 4.0 * np.pi}  # dV = MEASURE r^(j-1) dr (planar: both sides)

@@ -1,11 +1,11 @@
-"""Shock relations (compare.exact.shocks): published values, jump conditions,
+"""Shock relations (partmesh.compare.exact.shocks): published values, jump conditions,
 limits, and the reflected shock checked by the exact Riemann solver."""
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from compare.exact import (
+from partmesh.compare.exact import (
     BLASTS,
     driver_pressure,
     friedlander,

@@ -1,4 +1,4 @@
-"""Water exact solutions (compare.exact.water): linear waves from rest against d'Alembert,
+"""Water exact solutions (partmesh.compare.exact.water): linear waves from rest against d'Alembert,
 Poisson's formula, adaptive Fourier quadrature, their own transforms and conservation;
 the dam break against its jump conditions, Riemann invariant and conservation."""
 
@@ -10,7 +10,7 @@ import pytest
 from scipy.integrate import IntegrationWarning, quad, simpson
 from scipy.special import dawsn, j0
 
-from compare.exact import (
+from partmesh.compare.exact import (
     CRATER_GAUGES,
     PRINS_GAUGES,
     Crater,
@@ -24,7 +24,7 @@ from compare.exact import (
     linear_wave_fields,
     linear_waves,
 )
-from compare.schema import parameters, validate
+from partmesh.compare.schema import parameters, validate
 
 G = 9.81
 PRINS = Mound(0.12, 0.61)  # Prins (1958): Q = 0.12 m, L = 0.61 m, d = 0.7 m

@@ -1,5 +1,5 @@
 """The fv solver's conservative cut-cell immersed boundary
-(``gridref.euler.immersed``): geometry against the exact shapes, a gas at
+(``partmesh.gridref.euler.immersed``): geometry against the exact shapes, a gas at
 rest kept at rest, mass and energy conserved to round-off in a closed box
 holding a blast array, and a run over one period across y equal to the
 full-width run."""
@@ -14,13 +14,13 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-import cases
-from cases.errors import InputError
-from cases.shapes import circle, square
-from gridref.euler.immersed import MIX, immersed_boundary
-from gridref.euler.state import conservative
-from gridref.euler.step import Scheme, Stepper
-from gridref.grid import bilinear_stencil, solver_grid
+import partmesh
+from partmesh.cases.errors import InputError
+from partmesh.cases.shapes import circle, square
+from partmesh.gridref.euler.immersed import MIX, immersed_boundary
+from partmesh.gridref.euler.state import conservative
+from partmesh.gridref.euler.step import Scheme, Stepper
+from partmesh.gridref.grid import bilinear_stencil, solver_grid
 
 
 def test_volume_fractions_and_walls_measure_the_shapes():
@@ -43,7 +43,7 @@ def test_volume_fractions_and_walls_measure_the_shapes():
 
 
 def test_small_cells_are_merged_into_groups_of_at_least_half_a_cell():
-    scene = cases.get("blast_array", arrangement="staggered", shape="triangle_left", rows=1)
+    scene = partmesh.scene("blast_array", arrangement="staggered", shape="triangle_left", rows=1)
     grid = solver_grid(scene.domain, 2e-3)
     ib = immersed_boundary(grid, scene.obstacles, (False, True))
     kappa = ib.volume.ravel()
@@ -77,7 +77,7 @@ def test_a_gas_at_rest_stays_at_rest_around_rods():
 def _closed_box(dx):
     """A staggered blast array (rods cut by the periodic sides) in a box
     closed at both ends, a high-pressure slab at its upstream end."""
-    scene = cases.get("blast_array", arrangement="staggered", rows=1)
+    scene = partmesh.scene("blast_array", arrangement="staggered", rows=1)
 
     def initial(x, y, dx):
         hot = x < 0.2
@@ -90,7 +90,7 @@ def _closed_box(dx):
 def test_a_closed_box_holding_an_array_keeps_its_mass_and_energy():
     """3 ms of a shock through a staggered array and back: mass and energy
     to round-off (a ghost-cell boundary gains 2–4 % of the mass here)."""
-    ds = cases.run(_closed_box(4e-3), "fv", dx=4e-3, progress=False)
+    ds = partmesh.run(_closed_box(4e-3), "fv", dx=4e-3, progress=False)
     assert float(ds.time[-1]) == pytest.approx(3e-3)
     assert float(ds.wall_force.max()) > 1e4  # the shock loaded the far wall
     assert ds.attrs["mass_drift"] < 1e-12
@@ -98,7 +98,7 @@ def test_a_closed_box_holding_an_array_keeps_its_mass_and_energy():
 
 
 def test_one_period_across_y_equals_the_full_channel():
-    runs = [cases.run(cases.get("blast_array", arrangement="staggered", one_period=one, t_end=1.6e-3), "fv",
+    runs = [partmesh.run(partmesh.scene("blast_array", arrangement="staggered", one_period=one, t_end=1.6e-3), "fv",
                       dx=4e-3, progress=False) for one in (True, False)]
     reduced, full = runs
     assert reduced.attrs["tiled"].startswith("one period of 0.04 m")
@@ -121,10 +121,10 @@ def test_bilinear_stencil_wraps_around_a_periodic_axis():
 
 
 def test_a_rod_cut_by_a_periodic_side_needs_its_other_part():
-    scene = cases.get("blast_array", arrangement="staggered")
+    scene = partmesh.scene("blast_array", arrangement="staggered")
     half = tuple(rod for rod in scene.obstacles if rod.bounds()[3] < 0.12 + 1e-9)  # drops the part at y = W
     with pytest.raises(InputError, match=r"is cut by the periodic side y_lo .* its other part, shifted by 0.12 m"):
-        cases.run(dataclasses.replace(scene, obstacles=half), "fv", dx=2e-3, t_end=1e-5, progress=False)
+        partmesh.run(dataclasses.replace(scene, obstacles=half), "fv", dx=2e-3, t_end=1e-5, progress=False)
 
 
 def _box(a, periodic):
@@ -157,7 +157,7 @@ def _redistributed_everywhere(ib, U, divergence, dt):
                                         dict(one_period=True, arrangement="staggered", shape="square")])
 def test_redistribution_over_the_band_equals_it_over_every_cell_to_round_off(parameters):
     # closed slivers (κ = 0 with open faces) give shares too: random right-hand sides everywhere, solids included
-    scene = cases.get("blast_array", **parameters)
+    scene = partmesh.scene("blast_array", **parameters)
     grid = solver_grid(scene.domain, 2e-3)
     ib = immersed_boundary(grid, scene.obstacles, scene.periodic)
     rng = np.random.default_rng(1)

@@ -2,7 +2,7 @@
 the scenes of SPEC §4.1/§4.2.
 
 Every assertion is against something the solver does not produce itself:
-exact solutions (``compare.exact``, cross-checked here against published
+exact solutions (``partmesh.compare.exact``, cross-checked here against published
 numbers or textbook closed forms where cheap), conservation in closed
 boxes, exact symmetries, observed convergence orders, or physical bounds.
 
@@ -19,19 +19,19 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-import cases
-from cases.errors import InputError, SolverFailed
-from cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from compare import exact, metrics
-from compare.convergence import observed_order
-from compare.metrics import field_error
-from compare.schema import validate
-from gridref.euler.reconstruct import LIMITERS
-from gridref.euler.riemann import RIEMANN_SOLVERS
+import partmesh
+from partmesh.cases.errors import InputError, SolverFailed
+from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
+from partmesh.compare import exact, metrics
+from partmesh.compare.convergence import observed_order
+from partmesh.compare.metrics import field_error
+from partmesh.compare.schema import validate
+from partmesh.gridref.euler.reconstruct import LIMITERS
+from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 
 
 def run(scene, **settings):
-    return cases.run(scene, "fv", progress=False, **settings)
+    return partmesh.run(scene, "fv", progress=False, **settings)
 
 
 def last(da):
@@ -57,7 +57,7 @@ SOD_DX = (5e-3, 2.5e-3, 1.25e-3)
 
 @pytest.fixture(scope="module")
 def sod_scene():
-    return cases.get("sod")
+    return partmesh.scene("sod")
 
 
 @pytest.fixture(scope="module")
@@ -126,7 +126,7 @@ def test_sod_output_times_are_the_scenes(sod_scene, sod_runs):
      ("toro123", 5e-3)],      # measured 0.00189
 )
 def test_toro_hard_riemann_problems(preset, bound):
-    scene = cases.get("sod", preset=preset)
+    scene = partmesh.scene("sod", preset=preset)
     ds = run(scene, dx=2.5e-3)
     # ran to the end and stored every output time
     np.testing.assert_allclose(ds.time.values, scene.output.times, rtol=0, atol=1e-14)
@@ -158,7 +158,7 @@ def reflection_coefficient_textbook(Ms, gamma=1.4):
 def test_shock_reflection_coefficient(Ms):
     c_exact = float(exact.reflection_coefficient(Ms))
     assert c_exact == pytest.approx(reflection_coefficient_textbook(Ms), rel=1e-10)
-    ds = run(cases.get("shock_reflection", Ms=Ms))
+    ds = run(partmesh.scene("shock_reflection", Ms=Ms))
     assert ds.attrs["reflection_coefficient"] == pytest.approx(c_exact, rel=0.02)
 
 
@@ -181,7 +181,7 @@ def sedov_box():
     walls and reflects several times within the run: box [−0.3, 0.3]²,
     48² cells (output grid = solver grid), to t = 0.3 (output at 0, 0.075,
     0.15, 0.3)."""
-    scene = cases.get("sedov", n_out=48, half_width=0.3, t_end=0.3)
+    scene = partmesh.scene("sedov", n_out=48, half_width=0.3, t_end=0.3)
     return scene, run(scene, dx=0.6 / 48)
 
 
@@ -215,7 +215,7 @@ def test_sedov_closed_box_momentum_stays_zero_by_symmetry(sedov_box):
 def sedov_small():
     """The brief's small Sedov (64², dx = 2/64, t_end = 0.05): conservation
     and the exact x↔y and mirror symmetries of a centred blast."""
-    scene = cases.get("sedov", n_out=64, t_end=0.05)
+    scene = partmesh.scene("sedov", n_out=64, t_end=0.05)
     return scene, run(scene, dx=2 / 64)
 
 
@@ -270,7 +270,7 @@ def check_noh(ds, t, r_in, r_out, tolerance, cell_tolerance):
 
 def test_noh_small_symmetric_and_post_shock_density():
     t = 0.3
-    ds = run(cases.get("noh", n_out=64), dx=1 / 64, t_end=t)
+    ds = run(partmesh.scene("noh", n_out=64), dx=1 / 64, t_end=t)
     R_s = t / 3.0
     # measured when written: mean −4.8 %, cells −8.5 % … −1.8 %
     check_noh(ds, t, 0.3 * R_s, 0.8 * R_s, tolerance=0.10, cell_tolerance=0.12)
@@ -278,7 +278,7 @@ def test_noh_small_symmetric_and_post_shock_density():
 
 @pytest.mark.slow
 def test_noh_200_full_time():
-    scene = cases.get("noh")
+    scene = partmesh.scene("noh")
     ds = run(scene, dx=1 / 200)
     # measured when written: mean −0.7 %, cells −5.0 % … +2.4 %, symmetric to 1e-12
     check_noh(ds, scene.t_end, 0.05, 0.15, tolerance=0.05, cell_tolerance=0.075)
@@ -292,9 +292,9 @@ def test_riemann_problem_mirror_image():
     """A Riemann problem with moving gas (Toro's modified Sod, u_L = 0.75)
     and its mirror image (states swapped, velocities negated, x0 = 0.5):
     rho(x) = rho_m(1 − x), u(x) = −u_m(1 − x) to 1e-12."""
-    a = run(cases.get("sod", left_rho=1.0, left_u=0.75, left_p=1.0, right_rho=0.125, right_u=0.0, right_p=0.1),
+    a = run(partmesh.scene("sod", left_rho=1.0, left_u=0.75, left_p=1.0, right_rho=0.125, right_u=0.0, right_p=0.1),
             dx=5e-3)
-    b = run(cases.get("sod", left_rho=0.125, left_u=-0.0, left_p=0.1, right_rho=1.0, right_u=-0.75, right_p=1.0),
+    b = run(partmesh.scene("sod", left_rho=0.125, left_u=-0.0, left_p=0.1, right_rho=1.0, right_u=-0.75, right_p=1.0),
             dx=5e-3)
     for k in range(a.sizes["time"]):
         np.testing.assert_allclose(a.rho.values[k], b.rho.values[k][::-1], rtol=0, atol=1e-12)
@@ -384,7 +384,7 @@ def beta_textbook(M1, theta_deg, gamma=1.4):
 
 @pytest.fixture(scope="module")
 def wedge_coarse():
-    scene = cases.get("wedge", theta_deg=20)
+    scene = partmesh.scene("wedge", theta_deg=20)
     return scene, run(scene, dx=5e-3)
 
 
@@ -440,7 +440,7 @@ def test_wedge_solid_cells_hold_no_fluid(wedge_coarse):
 @pytest.mark.slow
 @pytest.mark.parametrize("theta", [10, 20, 30])
 def test_wedge_default_resolution(theta):
-    ds = run(cases.get("wedge", theta_deg=theta))
+    ds = run(partmesh.scene("wedge", theta_deg=theta))
     assert ds.attrs["shock_angle_deg"] == pytest.approx(beta_textbook(3.5, theta), abs=1.0)
     solid = ds.solid.transpose("y", "x").values.astype(bool)
     rho = ds.rho.transpose("time", "y", "x").values
@@ -476,16 +476,16 @@ def check_sedov_radius(ds, scene, tolerance):
 
 def test_sedov_128_shock_radius():
     # measured when written: +2.9 %, +2.3 %, +1.6 % at t = 0.125, 0.25, 0.5
-    scene = cases.get("sedov", n_out=128)
+    scene = partmesh.scene("sedov", n_out=128)
     check_sedov_radius(run(scene), scene, 0.03)
 
 
 @pytest.mark.slow
 def test_sedov_256_shock_radius():
     # measured when written: +1.5 %, +1.1 %, +0.8 %; and half the 128² error
-    scene = cases.get("sedov")
+    scene = partmesh.scene("sedov")
     errs = check_sedov_radius(run(scene), scene, 0.02)
-    coarse_scene = cases.get("sedov", n_out=128)
+    coarse_scene = partmesh.scene("sedov", n_out=128)
     coarse = sedov_radius_errors(run(coarse_scene), coarse_scene)
     assert abs(errs[-1]) < abs(coarse[-1])  # converges with the grid
 
@@ -522,7 +522,7 @@ def test_blast_wall_arrival_time_bracketed_by_shock_speeds():
     blast's positive phase t+ = 0.47 ms is shorter than the crossing, the
     shock has weakened to p_i/p0 ≈ 4.5 at the wall and the run arrives at
     1.33 × L/W_in.) Also inside the loose acoustic bound L/a0."""
-    scene = cases.get("blast_wall")
+    scene = partmesh.scene("blast_wall")
     ds = run(scene, dx=2e-3)
     p0, length = 1.0e5, 1.0
     t_arrival = ds.attrs["wall_arrival_time"]
@@ -536,7 +536,7 @@ def test_blast_wall_arrival_time_bracketed_by_shock_speeds():
 
 
 def test_incident_ratio_inversion_is_consistent():
-    # round trip through compare.exact's reflection at Ms = 3.2 (SPEC: p_i = 11.78 p0)
+    # round trip through partmesh.compare.exact's reflection at Ms = 3.2 (SPEC: p_i = 11.78 p0)
     refl = exact.reflected_shock(3.2, 1.0, 1.0)
     assert float(refl["p_incident"]) == pytest.approx(11.78, abs=0.01)
     assert incident_ratio_from_reflected(float(refl["p_reflected"])) == pytest.approx(float(refl["p_incident"]),
@@ -545,7 +545,7 @@ def test_incident_ratio_inversion_is_consistent():
 
 @pytest.mark.slow
 def test_blast_wall_grid_convergence():
-    scene = cases.get("blast_wall")
+    scene = partmesh.scene("blast_wall")
     keys = ("wall_peak_pressure_fitted", "wall_arrival_time", "wall_impulse_final")
     levels = [run(scene, dx=dx).attrs for dx in (2e-3, 1e-3, 5e-4)]
     for key in keys:
@@ -620,8 +620,8 @@ def test_vacuum_floors_change_only_a_near_vacuum_and_count_what_they_add():
     alone, one whose density turned negative gets ρ_f = 1e-6 max ρ at rest
     with p_f; every other cell is untouched bit for bit, and the mass and
     energy added are exactly the changes."""
-    from gridref.euler.state import conservative, primitive
-    from gridref.euler.step import FLOOR, vacuum_floored
+    from partmesh.gridref.euler.state import conservative, primitive
+    from partmesh.gridref.euler.step import FLOOR, vacuum_floored
 
     gamma = 1.4
     rho = np.array([1.0, 0.09, 0.5, 1.0, 2.0])

@@ -5,13 +5,13 @@ system against conservation, exact solutions and pure SPH."""
 import numpy as np
 import pytest
 
-import cases
-from cases.errors import InputError
-from compare.metrics import field_error
-from hybrid.cells import cell_of, dilated, flagged, lattice, relaid, relative_jumps, ring, sensed_jumps
-from hybrid.exchange import cloud, deposited, interpolated, matched
+import partmesh
+from partmesh.cases.errors import InputError
+from partmesh.compare.metrics import field_error
+from partmesh.hybrid.cells import cell_of, dilated, flagged, lattice, relaid, relative_jumps, ring, sensed_jumps
+from partmesh.hybrid.exchange import cloud, deposited, interpolated, matched
 
-SOD = cases.get("sod")
+SOD = partmesh.scene("sod")
 
 
 def test_jumps_flag_the_cells_on_both_sides_of_a_step_and_the_buffer_around():
@@ -93,7 +93,7 @@ def test_the_injection_lattice_fills_each_cell_evenly():
 
 
 def _particles(n, dim, seed=0):
-    from particle.sph.solve import Particles
+    from partmesh.particle.sph.scheme import Particles
 
     rng = np.random.default_rng(seed)
     return Particles(x=rng.uniform(0.0, 1.0, (n, dim)), v=rng.normal(0.0, 1.0, (n, dim)), u=rng.uniform(1.0, 2.0, n),
@@ -117,7 +117,7 @@ def test_cells_are_relaid_when_thinned_out_or_holding_an_expanded_heavy_particle
 
 
 def test_deposit_puts_the_owned_part_of_every_cloud_on_the_grid():
-    import gridref.grid as gg
+    import partmesh.gridref.grid as gg
 
     grid = gg.solver_grid(((0.0, 1.0), (0.0, 1.0)), 0.1)
     P = _particles(500, 2)
@@ -159,7 +159,7 @@ def test_matching_leaves_the_momentum_across_a_wall_to_the_particles():
 
 
 def test_interpolation_is_exact_for_a_linear_field():
-    import gridref.grid as gg
+    import partmesh.gridref.grid as gg
 
     grid = gg.solver_grid(((0.0, 1.0), (0.0, 2.0)), 0.1)
     X, Y = gg.mesh(grid)
@@ -172,7 +172,7 @@ def test_interpolation_is_exact_for_a_linear_field():
 
 @pytest.fixture(scope="module")
 def sedov_hybrid():
-    return cases.run(cases.get("sedov", n_out=128, t_end=0.1), "hybrid", progress=False)
+    return partmesh.run(partmesh.scene("sedov", n_out=128, t_end=0.1), "hybrid", progress=False)
 
 
 def test_hybrid_conserves_mass_and_energy_in_a_closed_box(sedov_hybrid):
@@ -193,7 +193,7 @@ def test_hybrid_sub_steps_reuse_the_neighbour_lists(sedov_hybrid):
 
 def test_hybrid_sedov_shock_radius_follows_sedov_taylor(sedov_hybrid):
     ds = sedov_hybrid
-    exact = cases.get("sedov", n_out=128, t_end=0.1).exact(ds.time.values[-1:])
+    exact = partmesh.scene("sedov", n_out=128, t_end=0.1).exact(ds.time.values[-1:])
     r = np.hypot(*np.meshgrid(ds.x.values, ds.y.values))
     rho = ds.rho.isel(time=-1).values
     rho_exact = exact.rho.isel(time=-1).values
@@ -207,14 +207,14 @@ def test_hybrid_sod_density_error_is_within_a_fifth_of_pure_sph_at_the_same_spac
     dx = 1 / 800
     errors = {}
     for method in ("hybrid", "sph"):
-        ds = cases.run(SOD, method, dx=dx, progress=False)
+        ds = partmesh.run(SOD, method, dx=dx, progress=False)
         errors[method] = field_error(ds.rho.isel(time=-1), SOD.exact(ds.time.values).rho.isel(time=-1))
     assert errors["hybrid"] <= 1.2 * errors["sph"]
     assert errors["hybrid"] < 5e-3
 
 
 def test_hybrid_sod_holds_particles_only_near_the_waves():
-    ds = cases.run(SOD, "hybrid", dx=1 / 800, progress=False)
+    ds = partmesh.run(SOD, "hybrid", dx=1 / 800, progress=False)
     # the grid has 200 cells of 4 particles: the waves span about 0.6 of the tube at t = 0.2
     assert ds.attrs["particles_max"] < 0.75 * 800
     assert ds.attrs["dx"] == pytest.approx(1 / 800) and ds.attrs["fv_cells"] == 200
@@ -230,16 +230,16 @@ def test_hybrid_sod_holds_particles_only_near_the_waves():
 ])
 def test_hybrid_refuses_bad_settings_in_one_sentence(settings, words):
     with pytest.raises(InputError, match=words):
-        cases.run(SOD, "hybrid", progress=False, **settings)
+        partmesh.run(SOD, "hybrid", progress=False, **settings)
 
 
 def test_hybrid_refuses_scenes_with_obstacles():
     with pytest.raises(InputError, match="without obstacles"):
-        cases.run(cases.get("blast_array", one_period=True), "hybrid", progress=False)
+        partmesh.run(partmesh.scene("blast_array", one_period=True), "hybrid", progress=False)
 
 
 def test_settings_given_as_text_run_as_their_values():
     # the CLI passes --option eta=4 as the text '4': the particles must see the number
-    as_text = cases.run("sod", "hybrid", dx=5e-3, eta="4", alpha_max="2.5", kernel="wendland_c6", progress=False)
-    as_numbers = cases.run("sod", "hybrid", dx=5e-3, eta=4.0, alpha_max=2.5, progress=False)
+    as_text = partmesh.run("sod", "hybrid", dx=5e-3, eta="4", alpha_max="2.5", kernel="wendland_c6", progress=False)
+    as_numbers = partmesh.run("sod", "hybrid", dx=5e-3, eta=4.0, alpha_max=2.5, progress=False)
     np.testing.assert_array_equal(as_text["rho"].values, as_numbers["rho"].values)

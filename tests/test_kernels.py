@@ -1,4 +1,4 @@
-"""SPH kernels (particle.kernels): normalisation, derivatives, support,
+"""SPH kernels (partmesh.particle.kernels): normalisation, derivatives, support,
 shape, the derived 1D constants, the h ↔ H conversions and the skewed
 kernel of SPEC §3.1."""
 
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from compare.checks import InputError
-from particle import kernels as K
+from partmesh.compare.checks import InputError
+from partmesh.particle import kernels as K
 
 NAMES = list(K.KERNELS)
 BREAKS = {"cubic_spline": [0.5], "quintic_spline": [1 / 3, 2 / 3]}  # in q = r/H

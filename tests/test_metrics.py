@@ -1,4 +1,4 @@
-"""Scalar measures of results (compare.metrics), checked against values
+"""Scalar measures of results (partmesh.compare.metrics), checked against values
 worked out by hand or known analytically."""
 
 import math
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from compare import schema
-from compare.metrics import (
+from partmesh.compare import schema
+from partmesh.compare.metrics import (
     arrival_time,
     conservation_drift,
     errors,
@@ -387,7 +387,7 @@ def test_conservation_drift():
 
 
 def test_schlieren_of_a_linear_ramp_and_a_kink_by_hand():
-    from compare.metrics import schlieren
+    from partmesh.compare.metrics import schlieren
 
     x, y = np.linspace(0.0, 1.0, 11), np.linspace(0.0, 0.5, 6)
     # ρ = 1 + 2x for x ≤ 0.5, then 2 + 4 (x − 0.5): |∇ρ| = 2 on the left, 4 on the right, 3 at the kink

@@ -1,4 +1,4 @@
-"""Cell-linked-list neighbour search (particle.neighbours) against brute
+"""Cell-linked-list neighbour search (partmesh.particle.neighbours) against brute
 force: variable H, periodic axes (pairs across the boundary), particles
 outside the box on walled axes, symmetry, the dx sign convention, r = |dx|,
 determinism; and the cell sort."""
@@ -9,8 +9,8 @@ import numba
 import numpy as np
 import pytest
 
-from compare.checks import InputError
-from particle.neighbours import nearby_maximum, neighbour_lists, neighbours, renumbered, sort_order
+from partmesh.compare.checks import InputError
+from partmesh.particle.neighbours import nearby_maximum, neighbour_lists, neighbours, renumbered, sort_order
 
 
 def brute(x, H, lo, hi, periodic):

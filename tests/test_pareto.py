@@ -1,9 +1,9 @@
-"""The Pareto front of a speed-versus-error study (compare.report.pareto_front)."""
+"""The Pareto front of a speed-versus-error study (partmesh.compare.pareto.pareto_front)."""
 
 import numpy as np
 import pytest
 
-from compare.report import pareto_front
+from partmesh.compare.pareto import pareto_front
 
 
 def test_front_by_hand():

@@ -1,9 +1,9 @@
-"""Moving fields between cell-centred uniform grids (compare.regrid)."""
+"""Moving fields between cell-centred uniform grids (partmesh.compare.regrid)."""
 
 import numpy as np
 import pytest
 
-from compare.regrid import to_output_grid
+from partmesh.compare.regrid import to_output_grid
 
 
 def centres(x0, x1, n):

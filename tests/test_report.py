@@ -1,19 +1,19 @@
-"""compare.report: one table for runs of one scene, refusals of runs that
+"""partmesh.compare.report: one table for runs of one scene, refusals of runs that
 cannot be compared, and the Richardson value and GCI of measured quantities."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-import cases
-from compare.report import IncompatibleResults, grid_convergence, report, table
+import partmesh
+from partmesh.compare.report import IncompatibleResults, grid_convergence, report, table
 
-SOD = cases.get("sod", nx_out=100)
+SOD = partmesh.scene("sod", nx_out=100)
 
 
 @pytest.fixture(scope="module")
 def sod_runs():
-    return [cases.run(SOD, "fv", dx=dx, progress=False) for dx in (1 / 50, 1 / 400)]
+    return [partmesh.run(SOD, "fv", dx=dx, progress=False) for dx in (1 / 50, 1 / 400)]
 
 
 def test_runs_of_different_resolutions_are_compared_on_the_scenes_grid(sod_runs):
@@ -26,7 +26,7 @@ def test_runs_of_different_resolutions_are_compared_on_the_scenes_grid(sod_runs)
 
 
 def test_runs_of_a_scene_on_another_output_grid_are_refused_in_one_sentence(sod_runs):
-    other = cases.run(cases.get("sod", nx_out=200), "fv", dx=1 / 200, progress=False)
+    other = partmesh.run(partmesh.scene("sod", nx_out=200), "fv", dx=1 / 200, progress=False)
     with pytest.raises(IncompatibleResults, match=r"^b is a run of a different scene than a \(they differ in nx_out\)\.$"):
         table([sod_runs[0], other], names=["a", "b"])
     # the same scene parameters but other coordinates (a file edited by hand, say)
@@ -61,9 +61,9 @@ def test_grid_convergence_flags_levels_that_do_not_converge():
 def test_report_extrapolates_blast_wall_loads_towards_the_fine_grid(tmp_path):
     # FV at 4, 2 and 1 mm: the Richardson values of the wall impulse, arrival time and fitted peak
     # lie closer to a 0.25 mm run than the 1 mm run does, and the 1 mm run is within its GCI of it
-    scene = cases.get("blast_wall")
-    runs = [cases.run(scene, "fv", dx=dx, progress=False) for dx in (4e-3, 2e-3, 1e-3)]
-    fine = cases.run(scene, "fv", dx=2.5e-4, progress=False)
+    scene = partmesh.scene("blast_wall")
+    runs = [partmesh.run(scene, "fv", dx=dx, progress=False) for dx in (4e-3, 2e-3, 1e-3)]
+    fine = partmesh.run(scene, "fv", dx=2.5e-4, progress=False)
     report(runs, None, ["4 mm", "2 mm", "1 mm"], tmp_path)
     conv = pd.read_csv(tmp_path / "convergence.csv").set_index("quantity")
     assert (tmp_path / "richardson.png").stat().st_size > 0

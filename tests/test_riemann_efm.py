@@ -1,4 +1,4 @@
-"""Pullin's Equilibrium Flux Method (gridref.euler.riemann.efm): its
+"""Pullin's Equilibrium Flux Method (partmesh.gridref.euler.riemann.efm): its
 half-range fluxes against direct quadrature of the Maxwellian, consistency
 with the physical flux, upwinding of supersonic states, and sod."""
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from gridref.euler.riemann import efm, half_range_flux
-from gridref.euler.state import normal_flux
+from partmesh.gridref.euler.riemann import efm, half_range_flux
+from partmesh.gridref.euler.state import normal_flux
 
 GAMMA = 1.4
 

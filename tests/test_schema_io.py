@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import cases
-import compare.schema
-from compare.io import read, write
-from compare.schema import REQUIRED_ATTRS, SchemaError, parameters, validate
+import partmesh
+import partmesh.compare.schema
+from partmesh.compare.io import read, write
+from partmesh.compare.schema import REQUIRED_ATTRS, SchemaError, parameters, validate
 
 SPEC_ATTRS = ("case", "method", "scheme", "dx", "n_elements", "n_steps", "wall_seconds", "compile_seconds",
               "parameters", "partmesh_version", "Conventions", "created")
@@ -22,12 +22,12 @@ SPEC_ATTRS = ("case", "method", "scheme", "dx", "n_elements", "n_steps", "wall_s
 
 @pytest.fixture(scope="module")
 def scene():
-    return cases.get("sod", nx_out=100)
+    return partmesh.scene("sod", nx_out=100)
 
 
 @pytest.fixture(scope="module")
 def run_result(scene):
-    return cases.run(scene, "fv", dx=1e-2, cfl=0.7, limiter="vanleer", riemann="hll", progress=False)
+    return partmesh.run(scene, "fv", dx=1e-2, cfl=0.7, limiter="vanleer", riemann="hll", progress=False)
 
 
 def test_run_result_follows_the_schema(scene, run_result):
@@ -55,7 +55,7 @@ def test_run_result_follows_the_schema(scene, run_result):
 def test_a_run_names_the_commit_of_the_code_it_ran(run_result):
     """Made from a git checkout (as the README installs it), a result names
     the checkout's commit, read here with git independently of the code."""
-    root = Path(compare.schema.__file__).resolve().parent.parent
+    root = Path(partmesh.compare.schema.__file__).resolve().parent.parent
     git = subprocess.run(["git", "-C", str(root), "rev-parse", "--show-toplevel", "HEAD"], capture_output=True,
                          text=True)
     if git.returncode or Path(git.stdout.split()[0]).resolve() != root:
@@ -73,7 +73,7 @@ def test_parameters_repeat_the_run(scene, run_result):
     assert params["solver"]["limiter"] == "vanleer" and params["solver"]["riemann"] == "hll"
     # the scene can be rebuilt from the file alone and is the same scene
     scene_params = dict(params["scene"])
-    rebuilt = cases.get(scene_params.pop("case"), **scene_params)
+    rebuilt = partmesh.scene(scene_params.pop("case"), **scene_params)
     assert rebuilt.to_dict() == scene.to_dict()
 
 

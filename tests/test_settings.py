@@ -1,10 +1,10 @@
 """Every method's settings, fed what a user may type (property tests): on
 the path the command line takes (``--option key=value`` reaches
-:meth:`cases.method.Method.checked` as text), a value is either converted
+:meth:`partmesh.cases.method.Method.checked` as text), a value is either converted
 to its declared type and checked, or refused with one
-:class:`~cases.errors.InputError` sentence; never another exception.
+:class:`~partmesh.cases.errors.InputError` sentence; never another exception.
 Settings that are accepted then run a few steps of a small scene, which
-ends with a result or a clean :class:`~cases.errors.SolverFailed`."""
+ends with a result or a clean :class:`~partmesh.cases.errors.SolverFailed`."""
 
 from __future__ import annotations
 
@@ -14,15 +14,16 @@ import typing
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import cases
-from cases.errors import InputError, SolverFailed
-from cases.run import methods, registered
-from cases.settings import RUN_CONTROLS
-from hybrid.cells import SENSORS
-from particle.dsmc.method import COLLISIONS
-from particle.kernels import KERNELS
-from gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
-from gridref.swe.method import PRECISION_NAMES
+import partmesh
+from partmesh.cases.errors import InputError, SolverFailed
+from partmesh.cases.registry import method as registered
+from partmesh.cases.registry import methods
+from partmesh.cases.settings import RUN_CONTROLS
+from partmesh.hybrid.cells import SENSORS
+from partmesh.particle.dsmc.method import COLLISIONS
+from partmesh.particle.kernels import KERNELS
+from partmesh.gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
+from partmesh.gridref.swe.method import PRECISION_NAMES
 
 METHODS = ("fv", "swe", "sph", "wcsph", "dsmc", "hybrid")
 #: a small scene of each method's medium, its dx and an end time a few steps into it
@@ -72,7 +73,7 @@ def test_settings_are_typed_or_refused_in_one_sentence(method, data):
     if data.draw(st.booleans()):
         given_[data.draw(st.text(min_size=1, max_size=8))] = "1"  # (a setting the method may not have)
     try:
-        checked = chosen.checked(cases.get(case), given_)
+        checked = chosen.checked(partmesh.scene(case), given_)
     except InputError as error:
         assert _one_sentence(error), str(error)
         return
@@ -93,7 +94,7 @@ def test_accepted_settings_run_a_few_steps(method, data):
     if method == "dsmc":
         given_["ppc"] = 5  # (a few particles are enough to take steps)
     try:
-        ds = cases.run(case, method, **given_)
+        ds = partmesh.run(case, method, **given_)
     except (InputError, SolverFailed) as error:
         assert _one_sentence(error), str(error)
         return
@@ -107,9 +108,9 @@ def test_the_registered_methods_are_the_six_with_their_media():
 
 
 def test_the_grid_kernels_offer_the_choices_the_settings_name():
-    from gridref.euler.reconstruct import LIMITERS
-    from gridref.euler.riemann import RIEMANN_SOLVERS
-    from gridref.swe.step import PRECISIONS
+    from partmesh.gridref.euler.reconstruct import LIMITERS
+    from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
+    from partmesh.gridref.swe.step import PRECISIONS
 
     assert (set(LIMITERS), set(RIEMANN_SOLVERS), set(PRECISIONS)) == (set(LIMITER_NAMES), set(RIEMANN_NAMES),
                                                                        set(PRECISION_NAMES))
@@ -119,6 +120,6 @@ def test_text_settings_become_numbers_once():
     """``--option eta=4`` on hybrid (text) gives the number the SPH scheme
     needs; ``eta=abc`` one sentence."""
     hybrid = registered("hybrid")
-    assert hybrid.checked(cases.get("sod"), {"eta": "4", "buffer": "3"}).eta == 4.0
+    assert partmesh.hybrid.checked(partmesh.scene("sod"), {"eta": "4", "buffer": "3"}).eta == 4.0
     with pytest.raises(InputError, match=r"^eta must be a finite number, got 'abc'\.$"):
-        hybrid.checked(cases.get("sod"), {"eta": "abc"})
+        partmesh.hybrid.checked(partmesh.scene("sod"), {"eta": "abc"})

@@ -1,4 +1,4 @@
-"""Tests for cases.shapes: signed distances, normals, surface sampling,
+"""Tests for partmesh.cases.shapes: signed distances, normals, surface sampling,
 segments, blast-array factories, overlap test and bad input."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 from matplotlib.path import Path
 from scipy.spatial import cKDTree
 
-from cases import shapes as S
-from cases.shapes import Circle, Polygon
+from partmesh.cases import shapes as S
+from partmesh.cases.shapes import Circle, Polygon
 
 HYP = settings(max_examples=40, deadline=None)
 

@@ -7,20 +7,20 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import cases
-from compare.convergence import observed_order
-from compare.metrics import field_error
-from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods
-from particle.sph.density import density_and_support
-from particle.sph.particles import place_2d, reflect_at_plane_walls
-from particle.sph.switches import conduction_switch
+import partmesh
+from partmesh.compare.convergence import observed_order
+from partmesh.compare.metrics import field_error
+from partmesh.particle import kernels
+from partmesh.particle.neighbours import neighbour_lists, padded, periods
+from partmesh.particle.sph.density import density_and_support
+from partmesh.particle.sph.particles import place_2d, reflect_at_plane_walls
+from partmesh.particle.sph.switches import conduction_switch
 
-SOD = cases.get("sod")
+SOD = partmesh.scene("sod")
 
 
 def sod_error(dx, **settings):
-    ds = cases.run(SOD, "sph", dx=dx, progress=False, **settings)
+    ds = partmesh.run(SOD, "sph", dx=dx, progress=False, **settings)
     exact = SOD.exact(ds.time.values)
     return ds, field_error(ds.rho.isel(time=-1), exact.rho.isel(time=-1))
 
@@ -81,7 +81,7 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
 def test_shock_reflection_1d_through_the_inflow_buffer(Ms):
     # the incident shock is made by the inflow buffer imposing the post-shock state at x = 0;
     # the reflected pressure at the end wall (mirror particles) gives C_R
-    ds = cases.run(cases.get("shock_reflection", Ms=Ms), "sph", dx=2e-3, progress=False)
+    ds = partmesh.run(partmesh.scene("shock_reflection", Ms=Ms), "sph", dx=2e-3, progress=False)
     assert ds.attrs["reflection_coefficient"] == pytest.approx(ds.attrs["reflection_coefficient_exact"], rel=0.02)
 
 
@@ -89,13 +89,13 @@ def test_shock_reflection_1d_through_the_inflow_buffer(Ms):
 @pytest.mark.parametrize("Ms", [1.5, 3.2, 6.0, 10.0])
 def test_shock_reflection_2d_tube(Ms):
     # the 0.5 m x 0.125 m tube: inflow buffer at x = 0, mirror walls on the other three sides
-    ds = cases.run(cases.get("shock_reflection", Ms=Ms, dim=2), "sph", dx=5e-3, progress=False)
+    ds = partmesh.run(partmesh.scene("shock_reflection", Ms=Ms, dim=2), "sph", dx=5e-3, progress=False)
     assert ds.attrs["reflection_coefficient"] == pytest.approx(ds.attrs["reflection_coefficient_exact"], rel=0.04)
 
 
 def sedov_sph(n, t_end=0.1):
-    ds = cases.run(cases.get("sedov", n_out=n, t_end=t_end), "sph", dx=2.0 / n, progress=False)
-    from compare import exact, metrics
+    ds = partmesh.run(partmesh.scene("sedov", n_out=n, t_end=t_end), "sph", dx=2.0 / n, progress=False)
+    from partmesh.compare import exact, metrics
 
     error = metrics.shock_radius(ds.rho.isel(time=-1)) / exact.shock_radius(t_end, 1.0, 1.0) - 1.0
     return ds, error
@@ -125,8 +125,8 @@ def test_sedov_2d_shock_radius_error_falls_with_resolution():
 def test_noh_2d_post_shock_density_outside_the_wall_heating_core():
     # the quarter plane with symmetry walls; the inflowing gas beyond x, y = 1 is carried by the
     # extended particle set. gamma = 5/3: density 16 behind the shock at r = t/3 = 0.2 (Noh 1987)
-    scene = cases.get("noh", n_out=100)
-    ds = cases.run(scene, "sph", dx=0.01, progress=False)
+    scene = partmesh.scene("noh", n_out=100)
+    ds = partmesh.run(scene, "sph", dx=0.01, progress=False)
     rho = ds.rho.isel(time=-1).transpose("y", "x").values
     X, Y = np.meshgrid(ds.x.values, ds.y.values)
     r = np.hypot(X, Y)
@@ -142,9 +142,9 @@ def test_noh_2d_post_shock_density_outside_the_wall_heating_core():
 def test_sedov_2d_with_250k_particles():
     # 500² particles to t = 0.5 (about 35 minutes on two cores): the shock radius within 3 % of
     # Sedov-Taylor, the total energy within 1e-3, the mass exact
-    scene = cases.get("sedov", n_out=500)
-    ds = cases.run(scene, "sph", dx=2.0 / 500, progress=False)
-    from compare import exact, metrics
+    scene = partmesh.scene("sedov", n_out=500)
+    ds = partmesh.run(scene, "sph", dx=2.0 / 500, progress=False)
+    from partmesh.compare import exact, metrics
 
     assert ds.attrs["n_elements"] >= 250_000
     radius = metrics.shock_radius(ds.rho.isel(time=-1))
@@ -154,9 +154,9 @@ def test_sedov_2d_with_250k_particles():
 
 def wedge_sph(theta, dx, tmp_path):
     """A wedge run and the signed distance of every fluid particle to the wedge at the end."""
-    scene = cases.get("wedge", theta_deg=theta)
+    scene = partmesh.scene("wedge", theta_deg=theta)
     snapshot = tmp_path / f"wedge_{theta:g}.nc"
-    ds = cases.run(scene, "sph", dx=dx, progress=False, particles=snapshot)
+    ds = partmesh.run(scene, "sph", dx=dx, progress=False, particles=snapshot)
     with xr.open_dataset(snapshot) as p:
         fluid = p.kind.values == 0
         phi = scene.obstacles[0].signed_distance(p.x.values[fluid], p.y.values[fluid])
@@ -184,17 +184,17 @@ def test_uniform_flow_leaves_through_an_outflow_side_undisturbed():
     # a subsonic stream crossing both outflow sides of a tube: the particle set extends beyond
     # them by the distance the rarefactions from its free ends cover upstream, so the domain
     # keeps the stream's state exactly; particles that leave the set are removed
-    sod = cases.get("sod")
+    sod = partmesh.scene("sod")
     stream = dataclasses.replace(sod, initial=lambda x, y, dx: (1.0, 0.5, 0.0, 1.0), exact_solution=None,
                                  t_end=0.2)
-    ds = cases.run(stream, "sph", dx=1 / 400, progress=False)
+    ds = partmesh.run(stream, "sph", dx=1 / 400, progress=False)
     assert np.max(np.abs(ds.rho.isel(time=-1).values - 1.0)) < 2e-3
     assert np.max(np.abs(ds.p.isel(time=-1).values - 1.0)) < 2e-3
     assert np.max(np.abs(ds.u.isel(time=-1).values - 0.5)) < 2e-3
 
 
 def test_plane_wall_safeguard_mirrors_a_particle_back():
-    scene = cases.get("shock_reflection", dim=2)
+    scene = partmesh.scene("shock_reflection", dim=2)
     x = np.array([[0.25, 0.06], [0.51, 0.06], [0.25, -0.01], [0.49, 0.126]])
     v = np.array([[1.0, 0.0], [3.0, 1.0], [0.0, -2.0], [1.0, 1.0]])
     xn, vn, count = reflect_at_plane_walls(scene, x, v)
@@ -217,7 +217,7 @@ def test_conduction_switch_rises_at_a_kink_and_decays_in_smooth_flow():
 
 def test_2d_placement_of_a_planar_shock_gives_each_region_its_mass():
     # cylinder_shock starts with a planar Mach 1.16 shock: rows dx apart, mass inverted along them
-    scene = cases.get("cylinder_shock")
+    scene = partmesh.scene("cylinder_shock")
     dx = 1e-3
     (_, x1), (y0, y1) = scene.domain
     x, m = place_2d(scene, dx, scene.domain)
@@ -230,18 +230,18 @@ def test_2d_placement_of_a_planar_shock_gives_each_region_its_mass():
     assert m * (~behind).sum() == pytest.approx(rho_pre * ((x1 - 0.015) * (y1 - y0) - area), rel=0.01)
     assert np.all(scene.obstacles[0].signed_distance(x[:, 0], x[:, 1]) >= 0.5 * dx - 1e-12)
     # too strong a density ratio for rows of one spacing is refused in one sentence
-    with pytest.raises(cases.errors.InputError, match="ratio"):
-        place_2d(cases.get("cylinder_shock", Ms=3.0), dx, scene.domain)
+    with pytest.raises(partmesh.cases.errors.InputError, match="ratio"):
+        place_2d(partmesh.scene("cylinder_shock", Ms=3.0), dx, scene.domain)
 
 
 def test_memory_resort_changes_nothing_but_round_off(monkeypatch):
     # the particle arrays re-sorted along the cells every step or never: the same run
-    sph_solve = importlib.import_module("particle.sph.solve")
-    scene = cases.get("sedov", n_out=32, t_end=0.1)
+    sph_solve = importlib.import_module("partmesh.particle.sph.solve")
+    scene = partmesh.scene("sedov", n_out=32, t_end=0.1)
     runs = []
     for every in (1, 10**9):
         monkeypatch.setattr(sph_solve, "RESORT_STEPS", every)
-        runs.append(cases.run(scene, "sph", dx=2.0 / 32, progress=False))
+        runs.append(partmesh.run(scene, "sph", dx=2.0 / 32, progress=False))
     a, b = (ds.isel(time=-1) for ds in runs)
     assert runs[0].attrs["n_steps"] == runs[1].attrs["n_steps"] > 10
     for name in ("rho", "p", "u", "v"):
@@ -250,12 +250,12 @@ def test_memory_resort_changes_nothing_but_round_off(monkeypatch):
 
 def test_reused_neighbour_lists_change_nothing_but_round_off(monkeypatch):
     # lists reused while the Verlet skin holds, or a new search every evaluation: the same run
-    sph_lists = importlib.import_module("particle.sph.lists")
+    sph_lists = importlib.import_module("partmesh.particle.sph.lists")
     # Noh's implosion: particles stream along the symmetry walls, so the mirror ghosts move too
-    scene = cases.get("noh", t_end=0.1, n_out=50)
-    runs = [cases.run(scene, "sph", dx=0.02, progress=False)]
+    scene = partmesh.scene("noh", t_end=0.1, n_out=50)
+    runs = [partmesh.run(scene, "sph", dx=0.02, progress=False)]
     monkeypatch.setattr(sph_lists.VerletLists, "reusable", lambda self, *args: None)
-    runs.append(cases.run(scene, "sph", dx=0.02, progress=False))
+    runs.append(partmesh.run(scene, "sph", dx=0.02, progress=False))
     reused, fresh = runs
     assert reused.attrs["n_steps"] == fresh.attrs["n_steps"] > 20
     # a search every step when reuse is off, and at most every other step with it
@@ -272,7 +272,7 @@ def test_a_particle_running_away_stops_the_run_at_a_collapsed_time_step(monkeypa
     # a particle's speed and energy blowing up while staying positive and finite shortens the
     # step without end; below MIN_STEP_FRACTION of the run's duration the run stops, says where,
     # and keeps what it computed
-    integrator = importlib.import_module("particle.sph.integrator")
+    integrator = importlib.import_module("partmesh.particle.sph.integrator")
     n = 50
     P = dataclasses.make_dataclass("P", ["x", "v", "u"])(np.zeros((n, 2)), np.ones((n, 2)), np.ones(n))
     E = dataclasses.make_dataclass("E", ["H", "vsig"])(np.full(n, 1e-2), np.full(n, 300.0))
@@ -281,8 +281,8 @@ def test_a_particle_running_away_stops_the_run_at_a_collapsed_time_step(monkeypa
     with pytest.raises(integrator.Unstable, match=r"x = \[0.61, 0.09\] m moves at 1e\+09 m/s"):
         integrator.time_step(P, E, 0.25, shortest=1e-12)
     # through a run: a floor above the first step stops it at once, with its first frame kept
-    solve = importlib.import_module("particle.sph.solve")
+    solve = importlib.import_module("partmesh.particle.sph.solve")
     monkeypatch.setattr(solve, "MIN_STEP_FRACTION", 0.1)
-    with pytest.raises(cases.SolverFailed, match=r"sph became unstable at t = 0 s \(step 1\): the time step fell") as e:
-        cases.run(cases.get("sod"), "sph", dx=0.02, progress=False)
+    with pytest.raises(partmesh.SolverFailed, match=r"sph became unstable at t = 0 s \(step 1\): the time step fell") as e:
+        partmesh.run(partmesh.scene("sod"), "sph", dx=0.02, progress=False)
     assert e.value.partial is not None and e.value.partial.sizes["time"] == 1

@@ -1,4 +1,4 @@
-"""The gas SPH force pass (particle.sph.forces.rates) against a direct
+"""The gas SPH force pass (partmesh.particle.sph.forces.rates) against a direct
 all-pairs numpy evaluation of the equations in its module docstring (Price
 2012, eqs. 35–36, 101–103), its independence of the chunk count, and the
 exact momentum and energy conservation of the pairwise form."""
@@ -6,9 +6,9 @@ exact momentum and energy conservation of the pairwise form."""
 import numpy as np
 import pytest
 
-from particle import kernels
-from particle.neighbours import neighbour_lists, padded, periods
-from particle.sph.forces import rates
+from partmesh.particle import kernels
+from partmesh.particle.neighbours import neighbour_lists, padded, periods
+from partmesh.particle.sph.forces import rates
 
 KIND = kernels.KERNELS["wendland_c6"]
 GAMMA = 1.4

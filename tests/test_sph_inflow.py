@@ -1,4 +1,4 @@
-"""The gas SPH inflow buffer (particle.sph.inflow): the mass it lets in, the
+"""The gas SPH inflow buffer (partmesh.particle.sph.inflow): the mass it lets in, the
 layer it keeps, and the waves it lets out."""
 
 import importlib
@@ -7,10 +7,10 @@ import types
 import numpy as np
 import pytest
 
-import cases
-from cases.scene import Inflow
-from compare.exact.riemann import sample
-from particle.sph.inflow import InflowBuffer
+import partmesh
+from partmesh.cases.scene import Inflow
+from partmesh.compare.exact.riemann import sample
+from partmesh.particle.sph.inflow import InflowBuffer
 
 MASS = 1e-3
 
@@ -93,7 +93,7 @@ def test_a_column_that_crosses_the_inlet_leaves_the_buffer_of_the_same_step(monk
     """The buffer a step's new evaluation sees is the layer after the step: a column that crossed the inlet
     is a fluid particle there and no longer a buffer particle as well (it was both for one step, a pair a
     few micrometres apart that the density solve could not separate: blast_wall at 1 mm stopped at 0.52 ms)."""
-    solve = importlib.import_module("particle.sph.solve")  # (the package's ``solve`` is the function)
+    solve = importlib.import_module("partmesh.particle.sph.solve")  # (the package's ``solve`` is the function)
     closest, crossings = [], []
     step = solve.leapfrog
 
@@ -106,7 +106,7 @@ def test_a_column_that_crosses_the_inlet_leaves_the_buffer_of_the_same_step(monk
         return step(sph, P, E, dt, switches, imposed, joining, retained)
 
     monkeypatch.setattr(solve, "leapfrog", checked)
-    cases.run(cases.get("blast_wall"), "sph", dx=2e-3, t_end=2e-4, progress=False)
+    partmesh.run(partmesh.scene("blast_wall"), "sph", dx=2e-3, t_end=2e-4, progress=False)
     assert len(crossings) > 20
     assert min(closest) > 0.9  # in spacings of the boundary density: a lattice, never a duplicate
 
@@ -132,9 +132,9 @@ def test_blast_wall_1d_waves_leave_through_the_inflow_buffer():
     # about 2 ms; a buffer holding the imposed state reflected them (near the inlet at 2.5 ms:
     # density 23 % and wall impulse 17 % above FV at this spacing), the boundary Riemann problem lets
     # them out as the FV boundary does
-    scene = cases.get("blast_wall", t_end=2.5e-3)
-    sph = cases.run(scene, "sph", dx=4e-3, progress=False)
-    fv = cases.run(scene, "fv", dx=1e-3, progress=False)
+    scene = partmesh.scene("blast_wall", t_end=2.5e-3)
+    sph = partmesh.run(scene, "sph", dx=4e-3, progress=False)
+    fv = partmesh.run(scene, "fv", dx=1e-3, progress=False)
     near_sph, near_fv = (ds.sel(x=slice(0.0, 0.3)).isel(time=-1) for ds in (sph, fv))
     assert float(near_sph.rho.mean()) == pytest.approx(float(near_fv.rho.mean()), rel=0.01)
     assert float(near_sph.u.mean()) == pytest.approx(float(near_fv.u.mean()), rel=0.03)

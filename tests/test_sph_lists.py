@@ -1,4 +1,4 @@
-"""Verlet neighbour lists of gas SPH (particle.sph.lists): lists kept while
+"""Verlet neighbour lists of gas SPH (partmesh.particle.sph.lists): lists kept while
 the particles move hold every pair that interacts at the new positions
 (brute force, mirror ghosts and periodic images included), and they are
 kept as long as the relative motion allows, not the fastest particle."""
@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from particle.sph.lists import VerletLists
+from partmesh.particle.sph.lists import VerletLists
 from tests.test_neighbours import brute
 
 #: a unit box with reflecting walls across x and periodic in y

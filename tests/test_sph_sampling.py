@@ -1,13 +1,13 @@
-"""The SPH solver's Shepard fast paths (particle.sph.sampling) against the
-general deposition compare.deposit.shepard: same kernel, same particles,
+"""The SPH solver's Shepard fast paths (partmesh.particle.sph.sampling) against the
+general deposition partmesh.compare.deposit.shepard: same kernel, same particles,
 same cells, sums equal to round-off; periodic axes wrap."""
 
 import numpy as np
 import pytest
 
-from compare.deposit import shepard
-from particle import kernels
-from particle.sph.sampling import shepard_at_points, shepard_on_grid
+from partmesh.compare.deposit import shepard
+from partmesh.particle import kernels
+from partmesh.particle.sph.sampling import shepard_at_points, shepard_on_grid
 
 KIND = kernels.KERNELS["wendland_c6"]
 

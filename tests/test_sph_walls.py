@@ -1,4 +1,4 @@
-"""SPH obstacle walls (particle.sph.walls, SPEC §3.1): the virtual particles
+"""SPH obstacle walls (partmesh.particle.sph.walls, SPEC §3.1): the virtual particles
 complete the fluid lattice, the skewed-kernel wall state reproduces linear
 fields, the virtual state stays within the fluid's range, the slip mirror,
 the virtual masses and the near-wall density, the
@@ -12,12 +12,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from cases.errors import InputError
-from cases.registry import get
-from cases.shapes import Circle, Polygon, wedge
-from particle import kernels
-from particle.sph.particles import place_2d
-from particle.sph.walls import (
+from partmesh.cases.errors import InputError
+from partmesh.cases.registry import get
+from partmesh.cases.shapes import Circle, Polygon, wedge
+from partmesh.particle import kernels
+from partmesh.particle.sph.particles import place_2d
+from partmesh.particle.sph.walls import (
     off_surface,
     points_within_support,
     reflect_into_fluid,

@@ -6,11 +6,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-import cases
-from cases.errors import InputError, Unsupported
-from compare.convergence import observed_order
-from compare.metrics import field_error
-from gridref.swe.step import Scheme, hancock_step, radii, stable_dt
+import partmesh
+from partmesh.cases.errors import InputError, Unsupported
+from partmesh.compare.convergence import observed_order
+from partmesh.compare.metrics import field_error
+from partmesh.gridref.swe.step import Scheme, hancock_step, radii, stable_dt
 
 G = 9.81
 
@@ -29,8 +29,8 @@ def advance(U, z, scheme, t_end, radius=None):
 
 @pytest.fixture(scope="module")
 def dam_break_ladder():
-    scene = cases.get("dam_break")
-    runs = {n: cases.run(scene, "swe", dx=10.0 / n, progress=False) for n in (200, 400, 800)}
+    scene = partmesh.scene("dam_break")
+    runs = {n: partmesh.run(scene, "swe", dx=10.0 / n, progress=False) for n in (200, 400, 800)}
     exact = scene.exact(runs[800].time.values)
     return scene, runs, exact
 
@@ -53,15 +53,15 @@ def test_a_float32_run_follows_the_float64_run(dam_break_ladder):
     # the bench's fast precision: its depths differ from double precision by round-off carried through
     # 400 steps, far below the scheme's own error
     scene, runs, exact = dam_break_ladder
-    single = cases.run(scene, "swe", dx=10.0 / 800, precision="float32", progress=False)
+    single = partmesh.run(scene, "swe", dx=10.0 / 800, precision="float32", progress=False)
     h32, h64 = single.h.isel(time=-1), runs[800].h.isel(time=-1)
     assert float(np.abs(h32 - h64).max()) < 1e-4
     assert field_error(h32, exact.h.isel(time=-1)) == pytest.approx(field_error(h64, exact.h.isel(time=-1)), rel=0.02)
 
 
 def test_ritter_dam_break_keeps_depth_non_negative_and_runs_at_the_front_speed():
-    scene = cases.get("dam_break", h_right=0.0, t_end=0.5)
-    ds = cases.run(scene, "swe", dx=10.0 / 800, progress=False)
+    scene = partmesh.scene("dam_break", h_right=0.0, t_end=0.5)
+    ds = partmesh.run(scene, "swe", dx=10.0 / 800, progress=False)
     h = ds.h.isel(time=-1)
     assert float(ds.h.min()) >= 0.0
     exact = scene.exact(ds.time.values).h.isel(time=-1)
@@ -73,7 +73,7 @@ def test_ritter_dam_break_keeps_depth_non_negative_and_runs_at_the_front_speed()
 
 @pytest.mark.parametrize("dim", [1, 2])
 def test_lake_at_rest_over_a_bumpy_bed_with_a_dry_island_stays_at_rest(dim):
-    ds = cases.run(cases.get("lake_at_rest", dim=dim), "swe", progress=False)
+    ds = partmesh.run(partmesh.scene("lake_at_rest", dim=dim), "swe", progress=False)
     assert float(np.nanmax(np.abs(ds.eta))) <= 1e-12
     assert float(np.abs(ds.u).max()) <= 1e-12
     assert float(ds.h.min()) == 0.0  # the island is dry and stays dry
@@ -143,9 +143,9 @@ def test_absorbing_side_lets_a_long_wave_leave():
 
 def test_water_and_gas_methods_refuse_each_others_scenes():
     with pytest.raises(Unsupported, match=r"^method fv runs gas scenes, and dam_break is a water scene\.$"):
-        cases.run(cases.get("dam_break"), "fv")
+        partmesh.run(partmesh.scene("dam_break"), "fv")
     with pytest.raises(Unsupported, match=r"^method swe runs water scenes, and sod is a gas scene\.$"):
-        cases.run(cases.get("sod"), "swe")
+        partmesh.run(partmesh.scene("sod"), "swe")
 
 
 @pytest.mark.parametrize("settings, word", [({"cfl": 0.8}, "cfl"), ({"limiter": "magic"}, "limiter"),
@@ -153,22 +153,22 @@ def test_water_and_gas_methods_refuse_each_others_scenes():
                                             ({"precision": "float16"}, "precision")])
 def test_bad_settings_name_the_parameter(settings, word):
     with pytest.raises(InputError, match=word):
-        cases.run(cases.get("dam_break"), "swe", progress=False, **settings)
+        partmesh.run(partmesh.scene("dam_break"), "swe", progress=False, **settings)
 
 
 def test_dam_break_scene_refuses_a_run_longer_than_its_channel():
     with pytest.raises(InputError, match=r"t_end = 5 s lets the waves of the dam break leave"):
-        cases.get("dam_break", t_end=5.0)
+        partmesh.scene("dam_break", t_end=5.0)
 
 
 def test_small_prins_mound_gauge_record_matches_the_long_wave_limit():
     # Q = 1.2 cm on 0.7 m (Q/d = 0.017): the shallow-water model is the non-dispersive linear limit,
     # d'Alembert's half-height box passing the gauge at 4.57 m; away from its two fronts (smeared over a
     # few cells, and shifted by the small nonlinearity) the records agree within 2 % of Q
-    from compare import exact
+    from partmesh.compare import exact
 
-    scene = cases.get("prins_mound", Q=0.012, t_end=3.0)
-    ds = cases.run(scene, "swe", dx=0.02, progress=False)
+    scene = partmesh.scene("prins_mound", Q=0.012, t_end=3.0)
+    ds = partmesh.run(scene, "swe", dx=0.02, progress=False)
     t = ds.t_probe.values
     limit, _ = exact.linear_wave_fields(exact.Mound(0.012, 0.61), [4.57], t, 0.7, dispersive=False)
     record = ds.eta_probe.sel(probe="x4.57").values
@@ -180,13 +180,13 @@ def test_small_prins_mound_gauge_record_matches_the_long_wave_limit():
 
 def test_wave_scenes_refuse_a_flume_short_enough_for_reflections_to_reach_the_gauges():
     with pytest.raises(InputError, match=r"^length = 12 m lets a wave reflected at the far end reach the gauges"):
-        cases.get("prins_mound", length=12.0)
+        partmesh.scene("prins_mound", length=12.0)
 
 
 def test_a_dam_across_a_square_basin_breaks_as_in_one_dimension():
     # dim=2: the dam spans the basin between walls at y = 0 and 10 m, so the flow stays 1D (the bench problem)
-    flat, square = cases.get("dam_break", nx_out=100), cases.get("dam_break", nx_out=100, dim=2)
-    a, b = (cases.run(scene, "swe", progress=False) for scene in (flat, square))
+    flat, square = partmesh.scene("dam_break", nx_out=100), partmesh.scene("dam_break", nx_out=100, dim=2)
+    a, b = (partmesh.run(scene, "swe", progress=False) for scene in (flat, square))
     h = b.h.isel(time=-1).values
     assert np.abs(h - h[:1]).max() < 1e-12  # every row alike, and no velocity across
     assert float(np.abs(b.v).max()) < 1e-12

@@ -1,4 +1,4 @@
-"""Sweeps on Dask (cases.sweep, ``partmesh sweep``): the product of runs,
+"""Sweeps on Dask (partmesh.sweeps, ``partmesh sweep``): the product of runs,
 one file per run, a killed sweep finished by running it again, a stopped
 one saving its runs under way and resuming them, failures reported without
 losing the finished runs, the runs opened together."""
@@ -12,10 +12,10 @@ import time
 import numpy as np
 import pytest
 
-import cases
-from cases.errors import InputError
-from cases.sweep import finished, open_sweep, plan, sweep
-from compare.io import read
+import partmesh
+from partmesh.cases.errors import InputError
+from partmesh.sweeps import finished, open_sweep, plan, sweep
+from partmesh.compare.io import read
 
 
 def test_plan_is_the_product_with_each_setting_sweeping_the_methods_that_take_it():
@@ -35,7 +35,7 @@ def test_plan_is_the_product_with_each_setting_sweeping_the_methods_that_take_it
 
 def _command(folder):
     # 12 runs: dsmc at 2 spacings x 2 interfaces x 3 particle counts, ~ 0.5-1 s each
-    return [sys.executable, "-m", "cases.cli", "sweep", "sod", "-m", "dsmc", "--dx", "0.01,0.0125",
+    return [sys.executable, "-m", "partmesh.cli", "sweep", "sod", "-m", "dsmc", "--dx", "0.01,0.0125",
             "--set", "x0=0.4,0.5", "--set", "ppc=150,200,250", "--seed", "1", "--workers", "2", "--quiet",
             "-o", str(folder)]
 
@@ -71,7 +71,7 @@ def test_a_killed_sweep_is_finished_by_running_it_again(tmp_path):
 def _stoppable_command(folder):
     # fv at 5e-5 (20 000 cells, about 11 000 steps: some 15 s in stretches of about 1 s) first, then a run of
     # 0.5 s; one worker, a checkpoint every 0.3 s
-    return [sys.executable, "-m", "cases.cli", "sweep", "sod", "-m", "fv", "--dx", "5e-5,1e-3", "--workers", "1",
+    return [sys.executable, "-m", "partmesh.cli", "sweep", "sod", "-m", "fv", "--dx", "5e-5,1e-3", "--workers", "1",
             "--option", "checkpoint_every=0.3", "--quiet", "-o", str(folder)]
 
 
@@ -122,7 +122,7 @@ def test_a_stopped_sweep_saves_its_runs_under_way_and_resumes_them(tmp_path):
     again = subprocess.run(_stoppable_command(folder), capture_output=True, text=True)
     assert again.returncode == 0 and "2 runs of sod: 2 ran" in again.stdout, again.stderr
     assert finished(long) and finished(short) and not checkpoint.exists()
-    whole, result = cases.run("sod", "fv", dx=5e-5, progress=False), read(long)
+    whole, result = partmesh.run("sod", "fv", dx=5e-5, progress=False), read(long)
     assert result.attrs["n_steps"] == whole.attrs["n_steps"]
     for name in whole.data_vars:
         np.testing.assert_array_equal(result[name].values, whole[name].values, err_msg=name)

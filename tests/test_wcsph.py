@@ -5,10 +5,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import cases
-from cases.errors import InputError, Unsupported
-from compare import exact
-from particle.wcsph.flume import Tait, flume, water_at_rest
+import partmesh
+from partmesh.cases.errors import InputError, Unsupported
+from partmesh.compare import exact
+from partmesh.particle.wcsph.eos import Tait
+from partmesh.particle.wcsph.flume import flume, water_at_rest
 
 G = 9.81
 
@@ -27,7 +28,7 @@ def test_hydrostatic_pressure_of_the_tait_water_solves_dp_dz():
 
 
 def test_the_initial_water_holds_the_initial_volume_exactly():
-    scene = cases.get("prins_mound", Q=0.05, t_end=2.0, length=11.0)
+    scene = partmesh.scene("prins_mound", Q=0.05, t_end=2.0, length=11.0)
     slice_ = flume(scene, 0.03, None)
     eos = Tait(scene.rho, 10.0 * np.sqrt(G * scene.depth))
     x, v, rho, m = water_at_rest(scene, slice_, 0.03, eos)
@@ -45,8 +46,8 @@ def test_the_initial_water_holds_the_initial_volume_exactly():
 def tank(tmp_path_factory):
     """A closed tank of still water, 1 m long and 0.5 m deep, 1 s."""
     path = tmp_path_factory.mktemp("tank") / "particles.nc"
-    scene = cases.get("lake_at_rest", island=0.0, ripples=0.0, t_end=1.0)
-    ds = cases.run(scene, "wcsph", dx=0.02, progress=False, particles=path)
+    scene = partmesh.scene("lake_at_rest", island=0.0, ripples=0.0, t_end=1.0)
+    ds = partmesh.run(scene, "wcsph", dx=0.02, progress=False, particles=path)
     return scene, ds, xr.open_dataset(path)
 
 
@@ -84,8 +85,8 @@ def test_the_energy_of_the_tank_decays_and_never_grows(tank):
 
 @pytest.fixture(scope="module")
 def standing_wave():
-    scene = cases.get("standing_wave", t_end=2.5)
-    return scene, cases.run(scene, "wcsph", dx=0.02, progress=False)
+    scene = partmesh.scene("standing_wave", t_end=2.5)
+    return scene, partmesh.run(scene, "wcsph", dx=0.02, progress=False)
 
 
 def _period(series, times):
@@ -133,7 +134,7 @@ def test_the_standing_wave_keeps_its_volume_and_stays_in_the_tank(standing_wave)
 ])
 def test_what_the_water_sph_cannot_run_is_refused_in_one_sentence(name, parameters, settings, message):
     with pytest.raises((InputError, Unsupported), match=message) as caught:
-        cases.run(cases.get(name, **parameters), "wcsph", progress=False, **settings)
+        partmesh.run(partmesh.scene(name, **parameters), "wcsph", progress=False, **settings)
     text = str(caught.value)
     assert text.count(". ") == 0 and text.endswith(".")
 
@@ -141,8 +142,8 @@ def test_what_the_water_sph_cannot_run_is_refused_in_one_sentence(name, paramete
 @pytest.mark.slow
 def test_a_small_prins_mound_reaches_the_gauges_as_linear_dispersive_theory_says():
     # Q = 12 mm (a tenth of Prins'): linear theory holds; 25 particles over the 0.7 m depth
-    scene = cases.get("prins_mound", Q=0.012, t_end=3.0, length=12.0)
-    ds = cases.run(scene, "wcsph", progress=False)
+    scene = partmesh.scene("prins_mound", Q=0.012, t_end=3.0, length=12.0)
+    ds = partmesh.run(scene, "wcsph", progress=False)
     truth = scene.measure(scene.exact(ds.time.values))
     # acceptance: first crest height and arrival within 10 % (at 4.57 m measured: -0.95 % and -0.5 %)
     for gauge in ("x2", "x4.57"):

@@ -1,11 +1,11 @@
 """Exact solutions to compare runs against (SPEC §5).
 
-* :mod:`compare.exact.riemann` — exact Riemann solver, vacuum included (Toro 2009, ch. 4)
-* :mod:`compare.exact.shocks` — normal shock, shock reflection, theta-beta-M,
+* :mod:`partmesh.compare.exact.riemann` — exact Riemann solver, vacuum included (Toro 2009, ch. 4)
+* :mod:`partmesh.compare.exact.shocks` — normal shock, shock reflection, theta-beta-M,
   Friedlander and Rankine-Hugoniot blast inflow (Anderson; Kinney & Graham)
-* :mod:`compare.exact.sedov` — Sedov-Taylor point blast (Sedov 1959; Kamm & Timmes 2007)
-* :mod:`compare.exact.noh` — Noh's implosion (Noh 1987)
-* :mod:`compare.exact.water` — linear dispersive waves from an initial elevation at rest,
+* :mod:`partmesh.compare.exact.sedov` — Sedov-Taylor point blast (Sedov 1959; Kamm & Timmes 2007)
+* :mod:`partmesh.compare.exact.noh` — Noh's implosion (Noh 1987)
+* :mod:`partmesh.compare.exact.water` — linear dispersive waves from an initial elevation at rest,
   planar and radial, finite depth (Whitham 1974 §13; Prins 1958), and the shallow-water
   dam break on a wet (Stoker 1957) or dry (Ritter 1892) bed
 
@@ -13,10 +13,10 @@ Functions that describe fields return a Dataset in the partmesh schema with
 ``method = "exact"``, so an exact answer compares like a run.
 """
 
-from compare.exact.noh import noh, noh_profile
-from compare.exact.riemann import riemann, sample, star_state
-from compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
-from compare.exact.shocks import (
+from partmesh.compare.exact.noh import noh, noh_profile
+from partmesh.compare.exact.riemann import riemann, sample, star_state
+from partmesh.compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
+from partmesh.compare.exact.shocks import (
     BLASTS,
     driver_pressure,
     friedlander,
@@ -27,7 +27,7 @@ from compare.exact.shocks import (
     reflection_coefficient,
     theta_beta_mach,
 )
-from compare.exact.water import (
+from partmesh.compare.exact.water import (
     CRATER_GAUGES,
     PRINS_GAUGES,
     Crater,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compare.checks import non_negative, positive
+from partmesh.compare.checks import non_negative, positive
 
 __all__ = ["GEOMETRIES", "axis", "geometry_index", "internal_energy", "non_negative", "output_times", "positive",
            "ratio_of_heats"]

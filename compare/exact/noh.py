@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from compare.exact._inputs import (
+from partmesh.compare.exact._inputs import (
     axis,
     geometry_index,
     internal_energy,
@@ -24,7 +24,7 @@ from compare.exact._inputs import (
     positive,
     ratio_of_heats,
 )
-from compare.schema import result
+from partmesh.compare.schema import result
 
 
 def noh_profile(r, t, gamma: float = 5.0 / 3.0, rho0: float = 1.0, u0: float = 1.0,

@@ -20,8 +20,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from compare.exact._inputs import axis, internal_energy, output_times, ratio_of_heats
-from compare.schema import result
+from partmesh.compare.exact._inputs import axis, internal_energy, output_times, ratio_of_heats
+from partmesh.compare.schema import result
 
 #: relative change of p* at which the Newton iteration stops
 RTOL = 1e-14

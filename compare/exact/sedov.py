@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import quad
 
-from compare.exact._inputs import (
+from partmesh.compare.exact._inputs import (
     axis,
     geometry_index,
     internal_energy,
@@ -44,7 +44,7 @@ from compare.exact._inputs import (
     positive,
     ratio_of_heats,
 )
-from compare.schema import result
+from partmesh.compare.schema import result
 
 #: |gamma - 2| below which the singular (gamma = 2) closed form is used
 SINGULAR_BAND = 1e-8

@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from compare.exact._inputs import positive, ratio_of_heats
-from compare.exact.riemann import star_state
+from partmesh.compare.exact._inputs import positive, ratio_of_heats
+from partmesh.compare.exact.riemann import star_state
 
 #: The inflow blasts of the blast-array scenes (SPEC §4.2): peak overpressure
 #: over p0, positive-phase duration t_plus [s] and Friedlander decay alpha.

@@ -133,9 +133,9 @@ import xarray as xr
 from scipy.optimize import brentq
 from scipy.special import hankel1e, j0, j1, jv, spherical_jn
 
-from compare.checks import choice, in_range, number
-from compare.exact._inputs import axis, non_negative, output_times, positive
-from compare.schema import result
+from partmesh.compare.checks import choice, in_range, number
+from partmesh.compare.exact._inputs import axis, non_negative, output_times, positive
+from partmesh.compare.schema import result
 
 __all__ = [
     "CRATER_GAUGES", "GEOMETRIES", "GRAVITY", "PRINS_GAUGES", "Crater", "DamBreakState", "Edge", "Gaussian",

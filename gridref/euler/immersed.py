@@ -47,9 +47,9 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.spatial import cKDTree
 
-from cases.shapes import normal, signed_distance
-from gridref.euler.riemann import RIEMANN_SOLVERS
-from gridref.grid import bilinear_stencil, mesh
+from partmesh.cases.shapes import normal, signed_distance
+from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
+from partmesh.gridref.grid import bilinear_stencil, mesh
 
 #: sub-samples per cell side (volume fractions) and per face (apertures)
 SAMPLES = 16

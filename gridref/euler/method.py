@@ -1,16 +1,16 @@
 """Method ``fv``: its settings and its entry in the method registry
-(:mod:`cases.method`); the solver is :mod:`gridref.euler.solve`."""
+(:mod:`partmesh.cases.method`); the solver is :mod:`partmesh.gridref.euler.solve`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.memory import elements_in, grid_cell_bytes
-from cases.method import Memory, Method
-from cases.settings import Settings, one_of, setting, within
+from partmesh.cases.memory import elements_in, grid_cell_bytes
+from partmesh.cases.method import Memory, Method
+from partmesh.cases.settings import Settings, one_of, setting, within
 
-#: the slope limiters of :mod:`gridref.euler.reconstruct` and the Riemann solvers of :mod:`gridref.euler.riemann`
+#: the slope limiters of :mod:`partmesh.gridref.euler.reconstruct` and the Riemann solvers of :mod:`partmesh.gridref.euler.riemann`
 LIMITER_NAMES = ("minmod", "mc", "vanleer", "superbee", "first_order")
 RIEMANN_NAMES = ("hllc", "hll", "rusanov", "efm")
 
@@ -32,4 +32,4 @@ def memory(scene, settings: FVSettings) -> Memory:
     return Memory(elements_in(scene.domain, settings.dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
 
 
-METHOD = Method("fv", "gas", FVSettings, memory, "gridref.euler.solve:solve")
+METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve")

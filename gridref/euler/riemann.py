@@ -13,7 +13,7 @@ import math
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from gridref.euler.state import conservative, normal_flux
+from partmesh.gridref.euler.state import conservative, normal_flux
 
 
 def einfeldt_speeds(WL, WR, gamma):

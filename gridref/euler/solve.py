@@ -7,19 +7,19 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from cases.checks import check_initial_state, check_obstacles
-from cases.checkpoint import checkpoint_for
-from cases.errors import InputError
-from cases.history import History, RunRecord
-from cases.scene import Inflow
-from compare.regrid import to_output_grid
-from gridref.euler.immersed import immersed_boundary
-from gridref.euler.method import FVSettings
-from gridref.euler.state import conservative, primitive
-from gridref.euler.step import FLOOR, Scheme, Stepper
-from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
-from gridref.jax_setup import configure_jax
-from cases.march import march
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.checks import check_initial_state, check_obstacles
+from partmesh.cases.errors import InputError
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import march
+from partmesh.cases.scene import Inflow
+from partmesh.compare.regrid import to_output_grid
+from partmesh.gridref.euler.immersed import immersed_boundary
+from partmesh.gridref.euler.method import FVSettings
+from partmesh.gridref.euler.state import conservative, primitive
+from partmesh.gridref.euler.step import FLOOR, Scheme, Stepper
+from partmesh.gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
+from partmesh.gridref.jax_setup import configure_jax
 
 
 def _primitive_state(scene, rho, u, v, p):
@@ -78,13 +78,13 @@ def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
 
 def solve(scene, settings: FVSettings):
     """Run ``scene`` with the unsplit MUSCL–Hancock finite-volume scheme
-    and checked ``settings`` (:class:`~gridref.euler.method.FVSettings`).
+    and checked ``settings`` (:class:`~partmesh.gridref.euler.method.FVSettings`).
 
-    Returns a schema Dataset; raises :class:`~cases.errors.SolverFailed`
+    Returns a schema Dataset; raises :class:`~partmesh.cases.errors.SolverFailed`
     (with the partial result) if the state turns non-physical or the run is
     interrupted. The state is saved to ``settings.checkpoint`` every
     ``checkpoint_every`` seconds and on SIGINT or SIGTERM; ``resume``
-    continues from it (:mod:`cases.checkpoint`).
+    continues from it (:mod:`partmesh.cases.checkpoint`).
     """
     configure_jax()
     dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl

@@ -9,7 +9,7 @@ transverse Riemann solves).
    physical (ρ ≤ 0 or p ≤ 0) falls back to first order (zero slope, no
    predictor) — the positivity fallback;
 4. a Riemann flux per face, ``U^{n+1} = U − Δt Σ_d (F_{d,i+1/2} − F_{d,i−1/2})/Δx_d``
-   (around obstacles the cut-cell form of :mod:`gridref.euler.immersed`).
+   (around obstacles the cut-cell form of :mod:`partmesh.gridref.euler.immersed`).
 
 Sums over directions are formed before they are applied, so the update is
 exactly symmetric under exchanging x and y on a square grid.
@@ -31,13 +31,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from gridref.euler.boundaries import N_GHOST, axis_of, with_ghosts
-from gridref.euler.reconstruct import LIMITERS, limited_slopes
-from gridref.euler.riemann import RIEMANN_SOLVERS
-from gridref.euler.state import primitive, rotated, sound_speed
-from gridref.grid import cropped
-from gridref.device_loop import device_loop
-from gridref.staging import staged
+from partmesh.gridref.device_loop import device_loop
+from partmesh.gridref.euler.boundaries import N_GHOST, axis_of, with_ghosts
+from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
+from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
+from partmesh.gridref.euler.state import primitive, rotated, sound_speed
+from partmesh.gridref.grid import cropped
+from partmesh.gridref.staging import staged
 
 
 def _shifted(a, axis, lo):
@@ -221,7 +221,7 @@ def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
     (:func:`flux_divergence`); with an ``immersed`` boundary, the cut-cell
     update with its walls' pressure from the half-step state ``Wh`` (the
     interior plus one ghost layer) and flux redistribution
-    (:mod:`gridref.euler.immersed`)."""
+    (:mod:`partmesh.gridref.euler.immersed`)."""
     if immersed is None:
         divergence, forces = flux_divergence(fluxes, scheme)
         return tuple(u - dt * div for u, div in zip(U, divergence)), forces
@@ -251,12 +251,12 @@ class Stepper:
     resort; ``dt_next`` is the CFL step of the new state, NaN if it is not
     physical even then. ``floors`` counts the cells the floors changed and
     the mass and energy they added [kg and J, per metre depth in 2D].
-    :attr:`stretch` (:func:`gridref.device_loop.device_loop`) runs it in one
+    :attr:`stretch` (:func:`partmesh.gridref.device_loop.device_loop`) runs it in one
     compiled loop; ``stepper(U, dt, t)`` is one step for a caller that
     steps on the host (the hybrid method).
 
     The kernels are materialised in between (see the module docstring and
-    :mod:`gridref.staging`).
+    :mod:`partmesh.gridref.staging`).
     """
 
     #: how often a step is redone with more cells first order before the

@@ -9,17 +9,17 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from cases.checkpoint import checkpoint_for
-from cases.errors import InputError
-from cases.history import History, RunRecord
-from compare.regrid import to_output_grid
-from gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
-from cases.march import march
-from gridref.jax_setup import configure_jax
-from gridref.swe.method import SWESettings
-from gridref.device_loop import device_loop
-from gridref.staging import staged
-from gridref.swe.step import (
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.errors import InputError
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import march
+from partmesh.compare.regrid import to_output_grid
+from partmesh.gridref.device_loop import device_loop
+from partmesh.gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
+from partmesh.gridref.jax_setup import configure_jax
+from partmesh.gridref.staging import staged
+from partmesh.gridref.swe.method import SWESettings
+from partmesh.gridref.swe.step import (
     DRY,
     PRECISIONS,
     Scheme,
@@ -33,17 +33,16 @@ from gridref.swe.step import (
 )
 
 
-
 class Stepper:
     """The MUSCL–Hancock step of one run, and stretches of it on the device.
 
     :meth:`step` is the pure step ``U, t, dt -> (U', dt_next, eta at the
     gauges, side forces (none))``: ghost cells, the predicted cells, the
-    face fluxes of each direction and the update (:mod:`gridref.swe.step`),
-    each a stage of its own (:mod:`gridref.staging`: fused into one
+    face fluxes of each direction and the update (:mod:`partmesh.gridref.swe.step`),
+    each a stage of its own (:mod:`partmesh.gridref.staging`: fused into one
     program, XLA:CPU computes the new state again for every reduction);
     ``dt_next`` is NaN if the new state is not physical. :attr:`stretch`
-    runs it in one compiled loop (:func:`gridref.device_loop.device_loop`).
+    runs it in one compiled loop (:func:`partmesh.gridref.device_loop.device_loop`).
     """
 
     def __init__(self, scheme: Scheme, z, radius, gauge_index, gauge_weight, dtype):
@@ -80,15 +79,15 @@ class Stepper:
 
 def solve(scene, settings: SWESettings):
     """Run the water ``scene`` with the shallow-water model and checked
-    ``settings`` (:class:`~gridref.swe.method.SWESettings`): MUSCL–Hancock
+    ``settings`` (:class:`~partmesh.gridref.swe.method.SWESettings`): MUSCL–Hancock
     (the limiter on depth, surface and velocity), hydrostatic
     reconstruction at the faces, HLLC fluxes.
 
     Returns a schema Dataset with ``eta`` (NaN over dry cells), the
     depth-averaged velocity and ``h``; raises
-    :class:`~cases.errors.SolverFailed` with the partial result if a depth
+    :class:`~partmesh.cases.errors.SolverFailed` with the partial result if a depth
     turns negative or the run is interrupted. Checkpoints as in the other
-    methods (:mod:`cases.checkpoint`).
+    methods (:mod:`partmesh.cases.checkpoint`).
     """
     configure_jax()
     dx = settings.dx

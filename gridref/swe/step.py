@@ -28,7 +28,7 @@ The step is the unsplit MUSCL–Hancock scheme (van Leer 1984; Toro 2009
 3. *Faces*: the hydrostatic reconstruction (Audusse et al. 2004) puts both
    face states on the face bed ``z* = max(z⁻, z⁺)`` with depths
    ``h*± = max(0, h± + z± − z*)``; the HLLC flux of those states
-   (:mod:`gridref.swe.fluxes`) is corrected by ``g (h±² − h*±²)/2`` in the
+   (:mod:`partmesh.gridref.swe.fluxes`) is corrected by ``g (h±² − h*±²)/2`` in the
    normal momentum on each side.
 4. *Update*: ``Uⁿ⁺¹ = Uⁿ − Δt Σ_d (flux differences)/Δx_d + Δt S`` with
    the centred bed source ``−g (h⁺_{i−½} + h⁻_{i+½})/2 · (z⁻_{i+½} −
@@ -45,7 +45,7 @@ the case of Audusse et al.'s positivity bound, Courant number ≤ 1/4).
 
 The ghosted state, the predicted cells, each direction's face fluxes and the
 update are separate jitted kernels whose outputs are materialised in
-between (:class:`gridref.swe.solve.Stepper`): fused into its consumers, XLA:CPU
+between (:class:`partmesh.gridref.swe.solve.Stepper`): fused into its consumers, XLA:CPU
 recomputes a producer for every use.
 
 Velocities are recovered from the momenta with Kurganov & Petrova's (2007)
@@ -61,10 +61,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from gridref.euler.boundaries import N_GHOST, axis_of, ghost_layer
-from gridref.euler.reconstruct import LIMITERS, limited_slopes
-from gridref.grid import cropped
-from gridref.swe.fluxes import hllc
+from partmesh.gridref.euler.boundaries import N_GHOST, axis_of, ghost_layer
+from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
+from partmesh.gridref.grid import cropped
+from partmesh.gridref.swe.fluxes import hllc
 
 #: depth [m] below which a cell counts as dry for its velocity (desingularisation ε)
 DRY = 1e-6
@@ -78,7 +78,7 @@ class Scheme:
 
     g: float
     dx: tuple[float, ...]
-    kinds: tuple[str, ...]  # boundary kind per side, x_lo, x_hi[, y_lo, y_hi] (cases.scene.WaterScene.boundary_kinds)
+    kinds: tuple[str, ...]  # boundary kind per side, x_lo, x_hi[, y_lo, y_hi] (partmesh.cases.scene.WaterScene.boundary_kinds)
     radial: bool = False
     limiter: str = "mc"
     cfl: float = 0.25
@@ -275,7 +275,7 @@ def updated(U, P, fluxes, dt, scheme: Scheme, radius=None):
 def hancock_step(U, z, dt, scheme: Scheme, radius=None):
     """``U`` after one MUSCL–Hancock step of ``dt`` (module docstring), in
     one function (the solver runs the same kernels as a pipeline,
-    :class:`gridref.swe.solve.Stepper`)."""
+    :class:`partmesh.gridref.swe.solve.Stepper`)."""
     P = predicted(ghosted(U, z, scheme), dt, scheme, radius)
     return updated(U, P, [face_fluxes(P, d, scheme) for d in range(scheme.dim)], dt, scheme, radius)
 

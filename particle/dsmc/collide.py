@@ -42,8 +42,8 @@ import math
 import numba
 import numpy as np
 
-from particle.dsmc.cells import record_cell_sums
-from particle.dsmc.random import gamma, stream, uniform
+from partmesh.particle.dsmc.cells import record_cell_sums
+from partmesh.particle.dsmc.random import gamma, stream, uniform
 
 
 @numba.njit(cache=True, inline="always")

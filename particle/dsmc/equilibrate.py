@@ -28,8 +28,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from particle.dsmc.cells import record_cell_sums
-from particle.dsmc.random import gamma, normal, stream
+from partmesh.particle.dsmc.cells import record_cell_sums
+from partmesh.particle.dsmc.random import gamma, normal, stream
 
 
 @numba.njit(parallel=True, cache=True)
@@ -37,7 +37,7 @@ def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
     energies ``e`` (n,) of the particles of every cell with ≥ 2 of them.
 
-    The particles are in cell order (:func:`particle.dsmc.cells.sort_into_cells`):
+    The particles are in cell order (:func:`partmesh.particle.dsmc.cells.sort_into_cells`):
     cell c holds ``start[c]:start[c+1]``. ``zeta`` ≥ 0 internal degrees of
     freedom (0: ``e`` is left alone). Cell c draws from the stream
     ``(seed, step, c)``, so the result does not depend on the thread count.

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from compare.checks import InputError
-from particle.dsmc.random import gamma, normal, stream, uniform
+from partmesh.compare.checks import InputError
+from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 
 
 def internal_degrees(gamma: float) -> float:

@@ -1,5 +1,5 @@
 """Method ``dsmc``: its settings and its entry in the method registry
-(:mod:`cases.method`); the solver is :mod:`particle.dsmc.solve`."""
+(:mod:`partmesh.cases.method`); the solver is :mod:`partmesh.particle.dsmc.solve`."""
 
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import positive
-from cases.errors import InputError, Unsupported
-from cases.memory import elements_in
-from cases.method import Memory, Method
-from cases.settings import Settings, at_least, one_of, setting, within
+from partmesh.cases.checks import positive
+from partmesh.cases.errors import InputError, Unsupported
+from partmesh.cases.memory import elements_in
+from partmesh.cases.method import Memory, Method
+from partmesh.cases.settings import Settings, at_least, one_of, setting, within
 
 #: what happens in a cell over a step: the equilibrium redraw, or VHS collisions with Larsen–Borgnakke exchange
 COLLISIONS = ("equilibrium", "larsen-borgnakke")
@@ -74,4 +74,4 @@ def memory(scene, settings: DSMCSettings) -> Memory:
                   "dx or lower ppc")
 
 
-METHOD = Method("dsmc", "gas", DSMCSettings, memory, "particle.dsmc.solve:solve", takes_seed=True)
+METHOD = Method("dsmc", "gas", DSMCSettings, memory, "partmesh.particle.dsmc.solve:solve", takes_seed=True)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from particle.dsmc.cells import cell_index
+from partmesh.particle.dsmc.cells import cell_index
 
 
 class CellSums:

@@ -8,18 +8,18 @@ an inflow, the state of the adjacent cells at an outflow — put in the
 particles that fly in over the step; the particles are sorted into cells of
 size ``dx`` and every cell with two or more is redrawn from its local
 equilibrium, conserving its momentum and energy exactly
-(:mod:`particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
+(:mod:`partmesh.particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
 cells, C = ``cfl``.
 
 With ``collisions="larsen-borgnakke"`` the redraw gives way to true binary
-collisions (:mod:`particle.dsmc.collide`: no-time-counter selection, VHS
+collisions (:mod:`partmesh.particle.dsmc.collide`: no-time-counter selection, VHS
 molecules with exponent ``omega``, Larsen–Borgnakke rotational exchange
 with collision number ``z_rot``) at the ``mean_free_path`` of the scene's
 lowest initial density: a non-equilibrium gas for comparison, which tends
 to the equilibrium mode as the mean free path shrinks below the cell.
 
 Obstacles are the scene's shapes as convex polygons, reflecting specularly
-(:mod:`particle.dsmc.walls`); a cell's density counts only the part of it
+(:mod:`partmesh.particle.dsmc.walls`); a cell's density counts only the part of it
 open to the gas. Particles stand for equal masses: ``ppc`` particles per
 cell in the lowest-density initial state. Output fields are the cumulative
 moments of the last ``window`` steps before each output time.
@@ -32,22 +32,28 @@ import time as _time
 import numba
 import numpy as np
 
-from cases.checkpoint import checkpoint_for
-from cases.errors import InputError
-from cases.history import History, RunRecord
-from cases.march import landed
-from cases.scene import Inflow
-from cases.shapes import square
-from particle.dsmc.cells import cell_index, sort_into_cells
-from particle.dsmc.collide import collide
-from particle.dsmc.equilibrate import equilibrate
-from particle.dsmc.gas import internal_degrees, particles_in_cells
-from particle.dsmc.method import DSMCSettings
-from particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from particle.dsmc.sample import CellSums, moment_state
-from particle.dsmc.walls import (fluid_fraction, fly_past_obstacles, inside_obstacles, obstacle_polygons,
-                                 push_out_of_obstacles)
-from particle.march import march_particles
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.errors import InputError
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import landed
+from partmesh.cases.scene import Inflow
+from partmesh.cases.shapes import square
+from partmesh.particle.dsmc.cells import cell_index, sort_into_cells
+from partmesh.particle.dsmc.collide import collide
+from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc.far_field import far_field_state
+from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
+from partmesh.particle.dsmc.method import DSMCSettings
+from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
+from partmesh.particle.dsmc.sample import CellSums, moment_state
+from partmesh.particle.dsmc.walls import (
+    fluid_fraction,
+    fly_past_obstacles,
+    inside_obstacles,
+    obstacle_polygons,
+    push_out_of_obstacles,
+)
+from partmesh.particle.march import march_particles
 
 #: true collisions refuse a mean free path that makes a particle collide more often per step (the continuum limit,
 #: which the equilibrium redraw computes directly)
@@ -62,10 +68,10 @@ _UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
 def solve(scene, settings: DSMCSettings):
     """Run ``scene`` with equilibrium DSMC and checked ``settings``
-    (:class:`~particle.dsmc.method.DSMCSettings`). Raises
-    :class:`~cases.errors.SolverFailed` with the partial result if the run
+    (:class:`~partmesh.particle.dsmc.method.DSMCSettings`). Raises
+    :class:`~partmesh.cases.errors.SolverFailed` with the partial result if the run
     is interrupted; checkpoints as in the other methods
-    (:mod:`cases.checkpoint`; a resumed run is bit for bit an uninterrupted
+    (:mod:`partmesh.cases.checkpoint`; a resumed run is bit for bit an uninterrupted
     one)."""
     zeta = internal_degrees(scene.gamma)
     t0 = _time.perf_counter()
@@ -194,7 +200,7 @@ class _Gas:
 
     def collide_with(self, mean_free_path, omega, z_rot, cfl):
         """Switch the step from the equilibrium redraw to VHS /
-        Larsen–Borgnakke collisions (:mod:`particle.dsmc.collide`) with
+        Larsen–Borgnakke collisions (:mod:`partmesh.particle.dsmc.collide`) with
         ``mean_free_path`` at the lowest initial density ρ_ref, θ_ref there:
         F_N σ_ref = m/(√2 ρ_ref λ_ref) at g_ref = 4 √(θ_ref/π). Refuses a
         mean free path that makes a particle of the densest initial cell
@@ -325,7 +331,7 @@ class _Gas:
         """(rho, u, v, p) of the gas beyond an open side: an inflow's imposed
         state; at an outflow, the characteristic far-field state between
         the layer of cells next to the side and the scene's initial state
-        there, the undisturbed gas (:func:`far_field_state`). The layer's
+        there, the undisturbed gas (:func:`~partmesh.particle.dsmc.far_field.far_field_state`). The layer's
         state comes from its moments averaged over the last
         ~``OUTFLOW_MEMORY`` steps: copying a
         single step's sample out into the reservoir would feed its scatter
@@ -371,40 +377,6 @@ class _Gas:
                 length = float(self.hi[1 - side // 2] - self.lo[1 - side // 2]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * length
         return forces
-
-
-def far_field_state(inside, far, axis, normal, gamma):
-    """(rho, u, v, p) beyond an open side whose outward normal is ``normal``
-    (±1) along ``axis``, from the state ``inside`` next to it and the
-    undisturbed state ``far`` (Riemann invariants of the characteristics
-    normal to the side; e.g. Blazek, "Computational Fluid Dynamics", §8.4):
-    J⁺ = u_n + 2c/(γ − 1) leaves from inside, J⁻ = u_n − 2c/(γ − 1) enters
-    from far; the tangential velocity comes from inside where the gas flows
-    out, from far where it flows in; a supersonic outflow takes the inside
-    state, a supersonic inflow the far one.
-
-    The entropy p/ρ^γ is the far state's on both subsonic branches. The
-    reservoir only supplies the particles that fly in against the flow, and
-    an entropy taken from the noisy moments of the layer inside biases it:
-    a uniform gas at rest between two such sides (400 cells, 30 particles
-    per cell) lost 1.6 ± 0.4 % of its mass over 0.2 s with it, and keeps it
-    (+0.3 ± 0.15 %) without."""
-    (rho_i, *vel_i, p_i), (rho_f, *vel_f, p_f) = inside, far
-    un_i, un_f = normal * vel_i[axis], normal * vel_f[axis]
-    c_i, c_f = np.sqrt(gamma * p_i / rho_i), np.sqrt(gamma * p_f / rho_f)
-    if un_i >= c_i:
-        return inside
-    if un_f <= -c_f:
-        return far
-    riemann_out = un_i + 2.0 * c_i / (gamma - 1.0)
-    riemann_in = un_f - 2.0 * c_f / (gamma - 1.0)
-    un = 0.5 * (riemann_out + riemann_in)
-    c = 0.25 * (gamma - 1.0) * (riemann_out - riemann_in)
-    entropy = p_f / rho_f**gamma
-    rho = (c * c / (gamma * entropy)) ** (1.0 / (gamma - 1.0))
-    vel = list(vel_i if un > 0.0 else vel_f)
-    vel[axis] = normal * un
-    return float(rho), float(vel[0]), float(vel[1]), float(entropy * rho**gamma)
 
 
 def _buffer_of(a: np.ndarray) -> np.ndarray:

@@ -1,6 +1,6 @@
 """Specular reflection of DSMC particles from obstacle polygons (SPEC §3.3).
 
-The obstacles come from the scene's shapes (:mod:`cases.shapes`) as closed
+The obstacles come from the scene's shapes (:mod:`partmesh.cases.shapes`) as closed
 counter-clockwise segment loops — a circle as its inscribed polygon with
 chords of at most half a cell — so the DSMC body is that polygon. A
 particle's straight path over the step is cut at the first segment it
@@ -19,8 +19,8 @@ import math
 import numba
 import numpy as np
 
-from cases.errors import Unsupported
-from cases.shapes import Circle, segment_normals
+from partmesh.cases.errors import Unsupported
+from partmesh.cases.shapes import Circle, segment_normals
 
 #: bounces followed in one step before the safeguard takes over
 MAX_BOUNCES = 32
@@ -75,7 +75,7 @@ def _crossing(px, py, vx, vy, ax, ay, bx, by, nx, ny, t_max):
 def fly_past_obstacles(x, v, dt, segments, normals, start, bbox):
     """Move 2D particles ``x`` (n, 2), velocities ``v`` (n, 3), for ``dt``
     in place, reflecting specularly from the obstacle polygons (the domain's
-    sides are left to :func:`particle.dsmc.move.free_flight`, called after
+    sides are left to :func:`partmesh.particle.dsmc.move.free_flight`, called after
     with dt = 0). Returns the number of bounces."""
     n = x.shape[0]
     ngroup = start.size - 1

@@ -18,8 +18,8 @@ import math
 import numba
 import numpy as np
 
-from particle.kernels import SIGMA, shape, shape_derivative
-from particle.neighbours import separation
+from partmesh.particle.kernels import SIGMA, shape, shape_derivative
+from partmesh.particle.neighbours import separation
 
 #: relative tolerance of the H iteration
 TOLERANCE = 1e-8
@@ -53,9 +53,9 @@ _CHUNK = 256
 def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, eta, n):
     """``(rho, H, omega, converged)`` for the first ``n`` particles (the
     fluid; ghosts follow them and only serve as neighbours) at positions
-    ``x`` (``box``, ``half``: see :func:`particle.neighbours.periods`).
+    ``x`` (``box``, ``half``: see :func:`partmesh.particle.neighbours.periods`).
 
-    ``x`` is (N, 3) (:func:`particle.neighbours.padded`). ``H`` is the starting guess and ``H_max`` the largest support the
+    ``x`` is (N, 3) (:func:`partmesh.particle.neighbours.padded`). ``H`` is the starting guess and ``H_max`` the largest support the
     neighbour lists were built for (the solution is kept below it).
     Distances are computed once per particle into a scratch list shared by
     a chunk of particles, then every iteration reads them.

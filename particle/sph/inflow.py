@@ -26,9 +26,9 @@ there (2D ``blast_wall`` at 2 mm: the density at the inlet fell to 0.04
 ρ0 by 0.63 ms).
 
 The boundary state is the one a finite-volume scheme puts on the inlet face
-(Toro 2009, §6.3.3): the exact solution at x/t = 0 of the Riemann problem
-between the imposed state (upstream) and the gas next to the inlet
-(downstream). Where the imposed flow is supersonic it is the imposed state;
+(:func:`~partmesh.cases.inlet.inlet_face_state`; Toro 2009, §6.3.3): the
+exact solution at x/t = 0 of the Riemann problem between the imposed state
+(upstream) and the gas next to the inlet (downstream). Where the imposed flow is supersonic it is the imposed state;
 where it is subsonic, the waves travelling upstream from the domain (the
 blast's reflection from the far wall, the expansion behind a decaying blast)
 leave through the inlet instead of reflecting from a layer that holds its
@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compare.exact.riemann import sample
+from partmesh.cases.inlet import inlet_face_state
 
 
 class InflowBuffer:
@@ -84,12 +84,10 @@ class InflowBuffer:
         return state
 
     def _face_state(self, t: float) -> tuple[float, float, float, float]:
-        rho, u, v, p = self.imposed(t)
+        imposed = self.imposed(t)
         if self.adjacent is None:
-            return rho, u, v, p
-        rho_a, u_a, v_a, p_a = self.adjacent
-        rho_b, u_b, p_b = (float(a) for a in sample((rho, u, p), (rho_a, u_a, p_a), self.scene.gamma, 0.0))
-        return rho_b, u_b, (v if u_b > 0.0 else v_a), p_b
+            return imposed
+        return inlet_face_state(imposed, self.adjacent, self.scene.gamma)
 
     def observe(self, x, v, rho, p, width: float) -> None:
         """Take the adjacent gas as the mean state of the fluid particles
@@ -109,7 +107,7 @@ class InflowBuffer:
         the last within one column of the layer's depth. Their count depends
         on ``rho`` only, not on how far the layer has moved, so that it stays
         the same while a column crosses the inlet (and the neighbour lists
-        can be kept: :meth:`particle.sph.lists.VerletLists.reusable`)."""
+        can be kept: :meth:`partmesh.particle.sph.lists.VerletLists.reusable`)."""
         mu = self.column_mass(rho)
         ahead = self.inflowed - self.entered
         k = np.arange(int(np.floor(self.depth * rho / mu)) + 1)

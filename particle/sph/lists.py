@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particle.neighbours import cell_support, nearby_maximum, neighbour_lists, periods, renumbered
-from particle.sph.particles import mirror_ghosts, mirror_images
+from partmesh.particle.neighbours import cell_support, nearby_maximum, neighbour_lists, periods, renumbered
+from partmesh.particle.sph.particles import mirror_ghosts, mirror_images
 
 
 class PerParticle:
@@ -57,7 +57,7 @@ class NeighbourLists:
 class VerletLists:
     """The neighbour lists of one run. ``walls`` names the sides ghosts are
     mirrored across (an object with ``sides``, ``boundaries`` and
-    ``domain``, as a scene: :func:`particle.sph.particles.mirror_ghosts`),
+    ``domain``, as a scene: :func:`partmesh.particle.sph.particles.mirror_ghosts`),
     ``open_`` the outflow sides mirrored with the velocity kept; ``lo``,
     ``hi`` and ``periodic`` the search box. ``searches`` counts the
     searches made and ``seconds`` the wall time spent on lists."""
@@ -113,7 +113,7 @@ class VerletLists:
         The displacements of the j near i are bounded component by component
         by |δ_i| + max |δ| (cheap, and enough most steps) and, where that is
         not enough, by the range over the cells around i
-        (:func:`~particle.neighbours.nearby_maximum`; the range of all for
+        (:func:`~partmesh.particle.neighbours.nearby_maximum`; the range of all for
         the few supports wider than the cells), so gas that streams as a
         whole, as at an inlet, keeps its lists, and a fast stream does not
         use up the skin of the slow gas far from it. Positions are compared

@@ -1,17 +1,17 @@
 """Method ``sph``: its settings and its entry in the method registry
-(:mod:`cases.method`); the solver is :mod:`particle.sph.solve`."""
+(:mod:`partmesh.cases.method`); the solver is :mod:`partmesh.particle.sph.solve`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.memory import elements_in, particle_bytes
-from cases.method import Memory, Method
-from cases.scene import Inflow
-from cases.settings import Settings, one_of, optional_path, setting, within
-from compare.checks import InputError
-from particle.kernels import KERNELS
+from partmesh.cases.memory import elements_in, particle_bytes
+from partmesh.cases.method import Memory, Method
+from partmesh.cases.scene import Inflow
+from partmesh.cases.settings import Settings, one_of, optional_path, setting, within
+from partmesh.compare.checks import InputError
+from partmesh.particle.kernels import KERNELS
 
 #: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
 #: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take)
@@ -62,4 +62,4 @@ def memory(scene, settings: SPHSettings) -> Memory:
                   "particles")
 
 
-METHOD = Method("sph", "gas", SPHSettings, memory, "particle.sph.solve:solve")
+METHOD = Method("sph", "gas", SPHSettings, memory, "partmesh.particle.sph.solve:solve")

@@ -5,7 +5,7 @@ points, for probe series sampled many times per run:
 
 A direct sum over the particles, parallel over particles with per-thread
 partial sums: O(N · points), cheaper than building a tree for a handful of
-points. (Whole output grids go through :func:`compare.deposit.shepard`.)
+points. (Whole output grids go through :func:`partmesh.compare.deposit.shepard`.)
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import math
 import numba
 import numpy as np
 
-from particle.kernels import kernel_w
-from particle.neighbours import counting_sort
+from partmesh.particle.kernels import kernel_w
+from partmesh.particle.neighbours import counting_sort
 
 
 @numba.njit(parallel=True, cache=True)

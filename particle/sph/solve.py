@@ -3,36 +3,30 @@ scene's output grid (Prasanna Kumar, Patnaik & Ramamurthi 2018, Phys.
 Fluids 30, 046105; Price 2012, J. Comput. Phys. 231, 759).
 
 Time integration is the predictor–corrector leapfrog of
-:mod:`particle.sph.integrator` with Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
+:mod:`partmesh.particle.sph.integrator` with Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
 """
 
 from __future__ import annotations
 
 import time as _time
-import dataclasses
-from dataclasses import dataclass
 
 import numba
 import numpy as np
 import xarray as xr
 
-from cases.checkpoint import checkpoint_for
-from cases.checks import check_obstacles
-from cases.errors import SolverFailed
-from cases.history import History, RunRecord
-from cases.march import StepFailed, landed
-from cases.scene import Inflow
-from compare.io import particle_snapshot
-from particle import kernels
-from particle.march import march_particles
-from particle.neighbours import neighbour_lists, padded, sort_order
-from particle.sph.density import density_and_support
-from particle.sph.forces import rates
-from particle.sph.inflow import InflowBuffer
-from particle.sph.integrator import MIN_STEP_FRACTION, SEARCH_SLACK, Switches, Unstable, leapfrog, time_step
-from particle.sph.lists import PerParticle, VerletLists
-from particle.sph.method import SPHSettings, has_inlet
-from particle.sph.particles import (
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.checks import check_obstacles
+from partmesh.cases.errors import SolverFailed
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import StepFailed, landed
+from partmesh.cases.scene import Inflow
+from partmesh.compare.io import particle_snapshot
+from partmesh.particle.march import march_particles
+from partmesh.particle.neighbours import sort_order
+from partmesh.particle.sph.inflow import InflowBuffer
+from partmesh.particle.sph.integrator import MIN_STEP_FRACTION, Switches, Unstable, leapfrog, time_step
+from partmesh.particle.sph.method import SPHSettings, has_inlet
+from partmesh.particle.sph.particles import (
     check_supported,
     extended_domain,
     outflow_reach,
@@ -40,9 +34,10 @@ from particle.sph.particles import (
     place_2d,
     place_lattice,
 )
-from particle.sph.sampling import shepard_at_points, shepard_on_grid
-from particle.sph.switches import conduction_switch, cullen_dehnen
-from particle.sph.walls import in_box, virtual_state, walls
+from partmesh.particle.sph.sampling import shepard_at_points
+from partmesh.particle.sph.scheme import Evaluation, GasSPH, Particles
+from partmesh.particle.sph.switches import conduction_switch, cullen_dehnen
+from partmesh.particle.sph.walls import virtual_state, walls
 
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
@@ -50,182 +45,13 @@ KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
 RESORT_STEPS = 10
-#: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
-MIN_SUPPORT = 1e-3
-
-
-@dataclass
-class Particles(PerParticle):
-    """The fluid particles of a run (ghosts are rebuilt every evaluation);
-    ``rho`` is the density of the last evaluation, which the walls'
-    virtual particles are extrapolated from."""
-
-    x: np.ndarray
-    v: np.ndarray
-    u: np.ndarray
-    m: np.ndarray
-    H: np.ndarray
-    alpha: np.ndarray
-    alpha_u: np.ndarray
-    rho: np.ndarray
-
-    def keep(self, mask):
-        """Drop the particles where ``mask`` is False."""
-        for f in dataclasses.fields(self):
-            setattr(self, f.name, getattr(self, f.name)[mask])
-
-    def append(self, other: "Particles"):
-        """Add the particles of ``other`` after these."""
-        for f in dataclasses.fields(self):
-            setattr(self, f.name, np.concatenate([getattr(self, f.name), getattr(other, f.name)]))
-
-
-@dataclass
-class Evaluation(PerParticle):
-    """Everything computed from one particle state (fluid particles only)."""
-
-    rho: np.ndarray
-    H: np.ndarray
-    dvdt: np.ndarray
-    dudt: np.ndarray
-    div_v: np.ndarray
-    curl_v: np.ndarray
-    vsig: np.ndarray
-    lap_u: np.ndarray
-
-
-class GasSPH:
-    """The SPH equations of one run, bound to its scene and settings."""
-
-    def __init__(self, scene, kernel: str, eta: float, region, open_=(), wall=None):
-        self.scene, self.kernel, self.eta = scene, kernel, eta
-        self.region, self.wall = region, wall
-        #: wall seconds spent in the density and force passes, and the interactions the force pass
-        #: summed (ordered pairs i fluid, r_ij < max(H_i, H_j)), over the run
-        self.seconds = dict.fromkeys(("density", "forces"), 0.0)
-        self.force_interactions = 0
-        self.kind = kernels.KERNELS[kernel]
-        self.dim = scene.dim
-        self.lo = np.array([lo for lo, _ in scene.domain])
-        self.hi = np.array([hi for _, hi in scene.domain])
-        self.periodic = np.array(scene.periodic)
-        #: the neighbour lists, reused while they hold every pair (and the periods of the box)
-        self.verlet = VerletLists(scene, self.lo, self.hi, self.periodic, open_)
-
-    @property
-    def counters(self) -> tuple:
-        """``(seconds per pass, searches, force interactions)`` of the run so far."""
-        return {"search": self.verlet.seconds, **self.seconds}, self.verlet.searches, self.force_interactions
-
-    @counters.setter
-    def counters(self, value):
-        seconds, self.verlet.searches, self.force_interactions = value
-        self.verlet.seconds = seconds["search"]
-        self.seconds = {k: seconds[k] for k in self.seconds}
-
-    def retained(self, x) -> np.ndarray | None:
-        """True for the particles still in the run: within the particle box
-        (not out through an outflow side, nor pushed back upstream of the
-        inlet); None where none can leave (no outflow side, no inlet: the
-        walls keep every particle in)."""
-        if not self.verlet.open and not has_inlet(self.scene):
-            return None
-        return in_box(x, self.region)
-
-    def evaluate(self, P: Particles, x, v, u, imposed=None, growth=None) -> Evaluation:
-        """Density, support and rates of change of the fluid particles at the
-        state ``(x, v, u)``; ``P`` supplies masses, the support guess, the
-        viscosity and conduction switches and the last density; ``growth``,
-        the supports' expected growth over the next few steps, widens the
-        lists of a new search (:meth:`VerletLists.search`). Particles whose state is
-        imposed, not computed — ``imposed`` ``(x, v, rho, u, H, m)`` (an inflow
-        buffer, the boundary particles of ``hybrid``) and the walls' virtual
-        particles — act as neighbours only; mirror ghosts are made of all of them."""
-        n, dim, gamma = x.shape[0], self.dim, self.scene.gamma
-        given = [(np.zeros((0, dim)), np.zeros((0, dim)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))]
-        if imposed is not None:
-            given.append(imposed)
-        if self.wall is not None:
-            given.append(virtual_state(self.wall, x, v, P.rho, (gamma - 1.0) * P.rho * u, P.m, P.H, self.kind,
-                                         self.eta, gamma))
-        bx, bv, brho, bu, bH, bm = (np.concatenate(parts) for parts in zip(*given))
-        x_real, v_real = np.concatenate([x, bx]), np.concatenate([v, bv])
-        H_real = np.concatenate([P.H, bH])
-        m_real = np.concatenate([P.m, bm])
-        lists = self.verlet.reusable(x_real, v_real, H_real, n)
-        slack = SEARCH_SLACK
-        for _ in range(5):
-            if lists is None:
-                lists = self.verlet.search(x_real, v_real, H_real, n, slack, growth)
-                slack *= 1.4  # for the next search, if a solution reaches the edge of these lists
-            src, offsets, index = lists.src, lists.offsets, lists.index
-            m = np.concatenate([m_real, m_real[src]])
-            X3 = padded(lists.x)
-            t0 = _time.perf_counter()
-            rho, H, omega, converged = density_and_support(X3, self.verlet.box, self.verlet.half, m,
-                                                           np.concatenate([H_real, H_real[src]]), lists.radius,
-                                                           offsets, index, self.kind, dim, self.eta, n)
-            self.seconds["density"] += _time.perf_counter() - t0
-            failed = ~converged | (H >= (1.0 - 1e-6) * lists.radius[:n])
-            if not failed.any():
-                break
-            radius, lists = lists.radius, None
-        else:
-            k = int(np.flatnonzero(failed)[0])
-            if radius[k] >= (1.0 - 1e-6) * self.verlet.half_period:
-                raise FloatingPointError(f"the support H of the particle at x = {x[k].tolist()} m reached half the "
-                                         f"periodic width ({self.verlet.half_period:g} m): run a wider domain "
-                                         "(one_period=false) or a finer dx")
-            raise FloatingPointError(f"the smoothing-length iteration did not converge at x = {x[k].tolist()}")
-        real = [np.concatenate([a, b]) for a, b in ((rho, brho), (H, bH), (omega, np.ones(bx.shape[0])),
-                                                    (u, bu), (P.alpha, np.zeros(bx.shape[0])),
-                                                    (P.alpha_u, np.zeros(bx.shape[0])))]
-        rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
-        p = (gamma - 1.0) * rho_all * u_all
-        with np.errstate(invalid="ignore"):  # a negative energy: NaN rates, which the step reports with where
-            c = np.sqrt(gamma * p / rho_all)
-        t0 = _time.perf_counter()
-        *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, lists.v, m, u_all, rho_all, p, c,
-                                       omega_all, H_all, alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
-                                       numba.get_num_threads())
-        E = Evaluation(rho, H, *derived)
-        self.seconds["forces"] += _time.perf_counter() - t0
-        self.force_interactions += int(interactions)
-        return E
-
-    def compile_rest(self, P: Particles, E: Evaluation) -> None:
-        """Compile (or load) the kernels a run meets after its first
-        evaluation, so that its time excludes them: the lists' renumbering,
-        a frame's deposition, a search among a few much wider particles."""
-        self.verlet.renumber(np.arange(P.x.shape[0]))
-        axes = tuple(np.linspace(lo, hi, 3) for lo, hi in zip(self.lo, self.hi))
-        self.interpolate(P, E, P.u[None, :], axes)
-        x = self.lo + (self.hi - self.lo) * np.linspace(0.05, 0.95, 40)[:, None]
-        H = np.full(40, 0.02 * float(np.min(self.hi - self.lo)))
-        H[0] *= 4.0  # (wider than 1.25 times the 95th percentile: searched apart)
-        neighbour_lists(x, H, self.lo, self.hi, self.periodic)
-
-    def interpolate(self, P: Particles, E: Evaluation, values, axes):
-        """Shepard interpolation of particle ``values`` (k, n) on the uniform
-        grid with cell-centre ``axes`` (x[, y]): the schema layout (k, [y,] x)."""
-        gx = axes[0]
-        gy = axes[1] if self.dim == 2 else np.zeros(1)
-        y = P.x[:, 1] if self.dim == 2 else np.zeros(P.x.shape[0])
-        spacing_y = gy[1] - gy[0] if gy.size > 1 else 1.0
-        grids = shepard_on_grid(np.ascontiguousarray(P.x[:, 0]), np.ascontiguousarray(y), np.ascontiguousarray(values),
-                                P.m / E.rho, E.H, gx[0], gx[1] - gx[0], gx.size, gy[0], spacing_y, gy.size,
-                                bool(self.periodic[0]), self.dim == 2 and bool(self.periodic[1]), self.kind,
-                                self.dim, MIN_SUPPORT)
-        return grids if self.dim == 2 else grids[:, 0]
-
-
 def solve(scene, settings: SPHSettings):
     """Run ``scene`` with compressible SPH and checked ``settings``
-    (:class:`~particle.sph.method.SPHSettings`).
+    (:class:`~partmesh.particle.sph.method.SPHSettings`).
 
-    Raises :class:`~cases.errors.SolverFailed` with the partial result if
+    Raises :class:`~partmesh.cases.errors.SolverFailed` with the partial result if
     the state turns non-physical or the run is interrupted. Checkpoints as
-    in the other methods (:mod:`cases.checkpoint`); a resumed run searches
+    in the other methods (:mod:`partmesh.cases.checkpoint`); a resumed run searches
     its neighbour lists anew, so the density solve, converged to 1e-8 in H,
     starts from other brackets and the run matches an uninterrupted one to
     ~1e-7, not bit for bit.

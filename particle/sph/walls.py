@@ -11,7 +11,7 @@ Particles
   dropped. They carry no mass; they only hold the wall state.
 * **Virtual particles** ``v`` are the points of the fluid lattice
   ``x = x0 + (i + ½) s_x``, ``y = y0 + (j + ½) s_y`` (the lattice of
-  :func:`particle.sph.particles.place_2d`, ``s = L/round(L/Δx)`` per axis)
+  :func:`partmesh.particle.sph.particles.place_2d`, ``s = L/round(L/Δx)`` per axis)
   that lie inside an obstacle within ``depth`` of its surface,
   ``−depth ≤ φ ≤ 0`` (``φ`` the union signed distance), inside the particle
   box (beyond a side of the box the side's ghosts, mirrored from fluid and
@@ -38,7 +38,7 @@ particle's own support ``H_j`` (particle j contributes when
     φ_w = \bar φ_w + ∇φ_w · (x_w − \bar x_w)
 
 for ``φ = ρ, p, v_x, v_y`` (``∇W_s`` the gradient with respect to ``r``,
-:func:`particle.kernels.skewed_grad`; ``M_ab = Σ V ∂_a W_s (x_j − x̄)_b``).
+:func:`partmesh.particle.kernels.skewed_grad`; ``M_ab = Σ V ∂_a W_s (x_j − x̄)_b``).
 The Shepard value ``φ̄_w`` of a linear field is exact at the kernel centroid
 ``x̄_w`` (not at ``x_w``: the one-sided, skewed weights put ``x̄_w`` inside
 the fluid), and with ``x̄_w`` as the reference point ``Σ V (φ_j − φ̄) ∇W_s
@@ -99,11 +99,11 @@ import numpy as np
 from numba import prange
 from scipy.spatial import cKDTree
 
-from cases.errors import InputError
-from cases.shapes import Shape
-from compare.checks import positive
-from particle.kernels import kernel_id, skewed_grad, skewed_w
-from particle.neighbours import counting_sort, cell_grid
+from partmesh.cases.errors import InputError
+from partmesh.cases.shapes import Shape
+from partmesh.compare.checks import positive
+from partmesh.particle.kernels import kernel_id, skewed_grad, skewed_w
+from partmesh.particle.neighbours import cell_grid, counting_sort
 
 __all__ = [
     "SKEW",
@@ -179,7 +179,7 @@ def walls(scene, dx, depth, box=None) -> Wall | None:
     ``depth`` how far inside the solid virtual particles reach (at least the
     largest support radius, so that the fluid's kernels are complete).
     ``box`` is the region the fluid lattice fills, ``((x0, x1), (y0, y1))``,
-    exactly as passed to :func:`particle.sph.particles.place_2d` (default
+    exactly as passed to :func:`partmesh.particle.sph.particles.place_2d` (default
     ``scene.domain``); the virtual particles are points of the same lattice.
     The nearest-wall search is one k-d tree query (O(n log n), setup only).
     Along the scene's periodic axes (``scene.periodic``, if it has them)
@@ -195,7 +195,7 @@ def walls(scene, dx, depth, box=None) -> Wall | None:
     depth = positive("depth", depth)
     box = _as_box(scene.domain if box is None else box)
     if any(not isinstance(s, Shape) for s in obstacles):
-        raise InputError("scene.obstacles must hold cases.shapes.Shape objects.")
+        raise InputError("scene.obstacles must hold partmesh.cases.shapes.Shape objects.")
     periodic = getattr(scene, "periodic", (False, False))
     period = np.array([hi - lo if wraps else 0.0 for (lo, hi), wraps in zip(box, periodic)])
     x_wall, normal_wall = wall_particles(obstacles, dx, box)
@@ -556,7 +556,7 @@ def wall_state(wall, x, v, rho, p, m, H, kind, skew=SKEW) -> tuple[np.ndarray, n
     ``rho, p, m, H (n,)`` (``H`` the compact support radius): skewed-kernel
     Shepard value and first-order-consistent gradient (module docstring),
     ``gradients[w, f] = ∇φ_f``. ``kind`` is a kernel name or id
-    (:data:`particle.kernels.KERNELS`); ``skew`` the c of ``λ = −c n̂``
+    (:data:`partmesh.particle.kernels.KERNELS`); ``skew`` the c of ``λ = −c n̂``
     (0 gives the plain kernel). A wall particle no fluid particle reaches
     takes the state of the nearest fluid particle, with zero gradient.
     """
@@ -691,7 +691,7 @@ def reflect_into_fluid(shapes, x, *velocities):
     component of each of its ``velocities`` that points into the solid
     (``v·n̂ < 0``: ``v − 2 (v·n̂) n̂``).
 
-    ``shapes`` is one :class:`cases.shapes.Shape` or a sequence of them,
+    ``shapes`` is one :class:`partmesh.cases.shapes.Shape` or a sequence of them,
     ``x`` and every velocity array are ``(n, 2)``. Returns ``(x, *velocities,
     count)``: the inputs themselves when no particle was inside, new arrays
     otherwise (the inputs are never modified), and the number of particles
@@ -701,7 +701,7 @@ def reflect_into_fluid(shapes, x, *velocities):
     """
     shapes = [shapes] if isinstance(shapes, Shape) else list(shapes)
     if any(not isinstance(s, Shape) for s in shapes):
-        raise InputError("shapes must be a cases.shapes.Shape or a sequence of them.")
+        raise InputError("shapes must be a partmesh.cases.shapes.Shape or a sequence of them.")
     x_in = np.asarray(x, dtype=np.float64)
     n = len(x_in)
     if x_in.shape != (n, 2):

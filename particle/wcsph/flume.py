@@ -1,5 +1,5 @@
 """The vertical slice (x, z) a water scene becomes for the water SPH: its
-walls, its water at rest, its equation of state and its damping zone
+walls, its water at rest and its damping zone
 (SPEC §3.2, §4.3).
 
 A planar water scene is 1D in x; its slice has the bed ``z_b(x)`` below
@@ -17,54 +17,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cases.errors import InputError, Unsupported
-
-#: the exponent of the Tait equation of state
-TAIT_GAMMA = 7.0
-
-
-@dataclass(frozen=True)
-class Tait:
-    """The Tait equation of state P = B[(ρ/ρ0)^γ − 1], B = c0² ρ0/γ, γ = 7
-    (Monaghan 1994), and the sound speed c = c0 (ρ/ρ0)^((γ−1)/2)."""
-
-    rho0: float
-    c0: float
-
-    @property
-    def B(self) -> float:
-        return self.c0 * self.c0 * self.rho0 / TAIT_GAMMA
-
-    def pressure(self, rho):
-        return self.B * ((rho / self.rho0) ** TAIT_GAMMA - 1.0)
-
-    def density(self, p):
-        """The density at pressure ``p`` (the inverse of :meth:`pressure`)."""
-        return self.rho0 * (1.0 + p / self.B) ** (1.0 / TAIT_GAMMA)
-
-    def sound_speed(self, rho):
-        return self.c0 * (rho / self.rho0) ** (0.5 * (TAIT_GAMMA - 1.0))
-
-    def internal_energy(self, rho):
-        """The specific energy the compression stores,
-        e(ρ) = ∫_{ρ0}^{ρ} P/ρ'² dρ' = B[((ρ/ρ0)^(γ−1) − 1)/((γ−1) ρ0) + 1/ρ − 1/ρ0]."""
-        gm1 = TAIT_GAMMA - 1.0
-        return self.B * (((rho / self.rho0) ** gm1 - 1.0) / (gm1 * self.rho0) + 1.0 / rho - 1.0 / self.rho0)
-
-    def hydrostatic_pressure(self, depth, g: float):
-        """The pressure ``depth`` below the surface of water at rest,
-        dP/dz = −ρ(P) g with P = 0 at the surface: with s = 1 + P/B,
-        s^(−1/γ) ds = −(ρ0 g/B) dz, so
-        s = [1 + (1 − 1/γ) ρ0 g depth/B]^(γ/(γ−1))."""
-        k = 1.0 - 1.0 / TAIT_GAMMA
-        return self.B * ((1.0 + k * self.rho0 * g * depth / self.B) ** (1.0 / k) - 1.0)
+from partmesh.cases.errors import InputError, Unsupported
+from partmesh.particle.wcsph.eos import Tait
 
 
 @dataclass(frozen=True)
 class Flume:
     """The slice of a planar water ``scene``: ``sides``, ``boundaries`` and
     ``domain`` (x, then z from the bed to ``top``) as
-    :func:`particle.sph.particles.mirror_ghosts` reads them; ``bed`` is the
+    :func:`partmesh.particle.sph.particles.mirror_ghosts` reads them; ``bed`` is the
     flat bed's elevation, ``damping`` the length of the damping zone before
     an absorbing x_hi (0 if none)."""
 

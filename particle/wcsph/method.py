@@ -1,15 +1,15 @@
 """Method ``wcsph``: its settings and its entry in the method registry
-(:mod:`cases.method`); the solver is :mod:`particle.wcsph.solve`."""
+(:mod:`partmesh.cases.method`); the solver is :mod:`partmesh.particle.wcsph.solve`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from cases.checks import positive
-from cases.memory import elements_in, particle_bytes
-from cases.method import Memory, Method
-from cases.settings import Settings, optional_path, setting, within
+from partmesh.cases.checks import positive
+from partmesh.cases.memory import elements_in, particle_bytes
+from partmesh.cases.method import Memory, Method
+from partmesh.cases.settings import Settings, optional_path, setting, within
 
 
 @dataclass(frozen=True)
@@ -44,4 +44,4 @@ def memory(scene, settings: WCSPHSettings) -> Memory:
                   particle_bytes(2, 1.25 * settings.eta), "particles")
 
 
-METHOD = Method("wcsph", "water", WCSPHSettings, memory, "particle.wcsph.solve:solve")
+METHOD = Method("wcsph", "water", WCSPHSettings, memory, "partmesh.particle.wcsph.solve:solve")

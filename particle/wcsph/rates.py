@@ -42,9 +42,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from particle.kernels import SIGMA, shape_derivative
-from particle.neighbours import separation
-
+from partmesh.particle.kernels import SIGMA, shape_derivative
+from partmesh.particle.neighbours import separation
 
 #: a renormalisation matrix whose determinant is below this fraction of (trace/2)² (particles with
 #: neighbours on a line only) gives no gradient
@@ -114,9 +113,9 @@ def rates(x, box, half, v, m, rho, p, c, rho_dynamic, G, H, c0, alpha, delta, of
     density rate, the largest |μ_ab| each particle sees (for the time step)
     and the number of ordered pairs (a fluid, b) with r_ab < H summed.
 
-    ``x`` and ``v`` are (N, 3) (:func:`particle.neighbours.padded`),
+    ``x`` and ``v`` are (N, 3) (:func:`partmesh.particle.neighbours.padded`),
     ``rho_dynamic`` is ρ − ρ_H and ``G`` (N, 3) its renormalised gradient
-    (:func:`dynamic_density_gradients`; mirrored for the ghosts). As :func:`particle.sph.forces.rates`: each
+    (:func:`dynamic_density_gradients`; mirrored for the ghosts). As :func:`partmesh.particle.sph.forces.rates`: each
     fluid–fluid pair is evaluated once, in the row of its smaller index, and
     every one of ``chunks`` contiguous blocks of rows scatters into its own
     accumulators, summed in block order (no races, the same result from run

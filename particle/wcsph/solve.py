@@ -5,7 +5,7 @@ Crespo et al. 2015, Comput. Phys. Commun. 187, 204).
 
 Time integration is the velocity Verlet (kick–drift–kick) leapfrog with a
 predicted velocity and density for the rates (as the gas SPH's,
-:mod:`particle.sph.solve`), one evaluation per step:
+:mod:`partmesh.particle.sph.solve`), one evaluation per step:
 
     v^{n+½} = v^n + ½Δt a^n,  ρ^{n+½} = ρ^n + ½Δt D^n,  x^{n+1} = x^n + Δt v^{n+½},
     (a, D)^{n+1} = rates(x^{n+1}, v^n + Δt a^n, ρ^n + Δt D^n),
@@ -29,19 +29,20 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from cases.checkpoint import checkpoint_for
-from cases.history import History, RunRecord
-from cases.march import StepFailed, landed
-from compare.io import particle_snapshot
-from particle import kernels
-from particle.march import march_particles
-from particle.neighbours import padded, sort_order
-from particle.sph.lists import PerParticle, VerletLists
-from particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
-from particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid
-from particle.wcsph.flume import Tait, damping_rate, flume, water_at_rest
-from particle.wcsph.method import WCSPHSettings
-from particle.wcsph.rates import dynamic_density_gradients, rates
+from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.history import History, RunRecord
+from partmesh.cases.march import StepFailed, landed
+from partmesh.compare.io import particle_snapshot
+from partmesh.particle import kernels
+from partmesh.particle.march import march_particles
+from partmesh.particle.neighbours import padded, sort_order
+from partmesh.particle.sph.lists import PerParticle, VerletLists
+from partmesh.particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
+from partmesh.particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid
+from partmesh.particle.wcsph.eos import Tait
+from partmesh.particle.wcsph.flume import damping_rate, flume, water_at_rest
+from partmesh.particle.wcsph.method import WCSPHSettings
+from partmesh.particle.wcsph.rates import dynamic_density_gradients, rates
 
 #: the kernel (SPEC §3.2: quintic Wendland, W ∝ (1 − q/2)^4 (2q + 1) for q = r/h ≤ 2)
 KERNEL = "wendland_c2"
@@ -190,11 +191,11 @@ class WaterSPH:
 def solve(scene, settings: WCSPHSettings):
     """Run the planar water ``scene`` with weakly compressible SPH in a
     vertical slice and checked ``settings``
-    (:class:`~particle.wcsph.method.WCSPHSettings`).
+    (:class:`~partmesh.particle.wcsph.method.WCSPHSettings`).
 
-    Raises :class:`~cases.errors.SolverFailed` with the partial result if
+    Raises :class:`~partmesh.cases.errors.SolverFailed` with the partial result if
     the state turns non-physical or the run is interrupted. Checkpoints as
-    in the other methods (:mod:`cases.checkpoint`; the neighbour lists are
+    in the other methods (:mod:`partmesh.cases.checkpoint`; the neighbour lists are
     searched anew after a resume, which changes the summation order only).
     """
     dx, cfl = settings.dx, settings.cfl

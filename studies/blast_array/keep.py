@@ -15,9 +15,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from cases.blast_study import SNAPSHOT_TIME
-from cases.sweep import finished
-from compare.io import read
+from partmesh.blast_study import SNAPSHOT_TIME
+from partmesh.sweeps import finished
+from partmesh.compare.io import read
 
 
 def slim(ds):

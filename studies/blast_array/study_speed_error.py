@@ -16,11 +16,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from cases.blast_study import configurations
-from cases.sweep import finished
-from compare import plots
-from compare.io import read
-from compare.report import wall_load_table
+from partmesh.blast_study import configurations
+from partmesh.sweeps import finished
+from partmesh.compare import plots
+from partmesh.compare.io import read
+from partmesh.compare.report import wall_load_table
 
 HERE = Path(__file__).parent
 QUANTITIES = ("wall_impulse_final", "wall_force_peak_raw")

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from compare.report import agreement
+from partmesh.compare.report import agreement
 
 HERE = Path(__file__).parent
 #: the largest relative difference from fv each particle method is asked to keep to

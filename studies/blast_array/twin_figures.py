@@ -17,10 +17,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from cases.blast_study import PARTS, configurations, file_stem
-from cases.sweep import finished
-from compare import plots
-from compare.io import read
+from partmesh.blast_study import PARTS, configurations, file_stem
+from partmesh.sweeps import finished
+from partmesh.compare import plots
+from partmesh.compare.io import read
 
 #: the method whose runs each set's name stands for, when it is not a method itself
 METHOD_OF = {"twin": "fv"}

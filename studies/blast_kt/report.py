@@ -17,7 +17,7 @@ quadrant) and writes beside this script
 
 The reference (``--reference``, default: the finest fv run) gives each run's
 radius error. Radius and peak density are measured anew from each run's
-fields (:func:`cases.blast.blast_front`), so runs written before a change
+fields (:func:`partmesh.cases.blast.blast_front`), so runs written before a change
 of that measure are read alike.
 """
 
@@ -34,9 +34,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from cases.blast import KILOTON, blast_front  # noqa: E402
-from compare.exact.sedov import shock_radius  # noqa: E402
-from compare.io import read  # noqa: E402
+from partmesh.cases.blast import KILOTON, blast_front  # noqa: E402
+from partmesh.compare.exact.sedov import shock_radius  # noqa: E402
+from partmesh.compare.io import read  # noqa: E402
 
 
 def label(ds) -> str:

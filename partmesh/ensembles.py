@@ -19,9 +19,10 @@ import json
 
 import numpy as np
 
-from cases.cluster import dask_client, local_workers, threads_per_run
-from cases.checks import integer
-from cases.errors import InputError
+from partmesh.cases import registry
+from partmesh.cases.checks import integer
+from partmesh.cases.errors import InputError
+from partmesh.cluster import dask_client, local_workers, threads_per_run
 
 
 def run_ensemble(scene, method: str, ensembles: int, seed: int = 0, scheduler: str | None = None,
@@ -30,12 +31,10 @@ def run_ensemble(scene, method: str, ensembles: int, seed: int = 0, scheduler: s
     ``method`` (which must take a ``seed``), seeds ``seed`` … ``seed +
     ensembles − 1``, run on the Dask scheduler at ``scheduler`` or on a
     LocalCluster of ``workers`` processes (default: one per core)."""
-    from cases.run import registered
-
-    if not registered(method).takes_seed:
+    if not registry.method(method).takes_seed:
         raise InputError(f"method {method} is deterministic: ensembles need a method with a seed (dsmc).")
     ensembles, seed = integer("ensembles", ensembles, 1), integer("seed", seed, 0)
-    registered(method).checked(scene, {**settings, "seed": seed})  # (bad settings refused here, not on the workers)
+    registry.method(method).checked(scene, {**settings, "seed": seed})  # (bad settings refused here, not on the workers)
     seeds = [seed + k for k in range(ensembles)]
     n_workers = local_workers(ensembles, workers)
     threads = None if scheduler else threads_per_run(n_workers)
@@ -48,12 +47,10 @@ def run_ensemble(scene, method: str, ensembles: int, seed: int = 0, scheduler: s
 def _member(scene, method, seed, threads, settings):
     """One member run (on a worker): ``threads`` numba threads if given."""
     if threads:
-        import numba
+        import numba  # (lazy: numba loads only in a worker that runs particles)
 
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    from cases.run import registered
-
-    chosen = registered(method)
+    chosen = registry.method(method)
     return chosen.solve(scene, chosen.checked(scene, {**settings, "seed": seed}))
 
 

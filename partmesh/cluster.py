@@ -13,7 +13,8 @@ from __future__ import annotations
 import os
 from contextlib import contextmanager
 
-from cases.errors import InputError
+from partmesh.cases.checkpoint import watch_signals_for_runs
+from partmesh.cases.errors import InputError
 
 
 def local_workers(runs: int, workers: int | None = None) -> int:
@@ -29,11 +30,9 @@ def dask_client(scheduler: str | None = None, workers: int = 1):
     """A ``distributed.Client``: of the scheduler at address ``scheduler``,
     or of a new LocalCluster with ``workers`` single-threaded worker
     processes (closed on exit), in which Ctrl-C or SIGTERM asks the runs
-    to stop between two steps (:func:`cases.checkpoint.watch_signals_for_runs`)
+    to stop between two steps (:func:`partmesh.cases.checkpoint.watch_signals_for_runs`)
     instead of ending the process."""
-    from distributed import Client, LocalCluster
-
-    from cases.checkpoint import watch_signals_for_runs
+    from distributed import Client, LocalCluster  # (lazy: Dask, ~1 s to import, only for runs on a cluster)
 
     if scheduler:
         with Client(scheduler) as client:

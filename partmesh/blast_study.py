@@ -4,9 +4,9 @@ wall from a blast, answered per method.
 
 A study is a list of :class:`Configuration` (the no-obstacle channel and
 rod arrays), run with every method as independent runs on Dask
-(:func:`cases.sweep.execute`: one netCDF file per run, finished runs
+(:func:`partmesh.sweeps.execute`: one netCDF file per run, finished runs
 skipped, so a stopped study is finished by running it again), then
-tabulated (:func:`compare.report.wall_load_table`), ranked by wall impulse
+tabulated (:func:`partmesh.compare.report.wall_load_table`), ranked by wall impulse
 per method with the rank correlation between methods, and drawn.
 
 The arrays are computed on one row pitch across y and tiled onto the
@@ -23,11 +23,22 @@ from pathlib import Path
 
 import pandas as pd
 
-from cases.blast import ARRANGEMENTS, ROW_PITCH
-from cases.errors import InputError
-from cases.registry import get
-from cases.shapes import SHAPES
-from cases.sweep import SweepRun, execute
+from partmesh.cases.blast import ARRANGEMENTS, ROW_PITCH
+from partmesh.cases.errors import InputError
+from partmesh.cases.registry import get
+from partmesh.cases.shapes import SHAPES
+from partmesh.compare import plots
+from partmesh.compare.io import read
+from partmesh.compare.report import (
+    agreement,
+    grid_convergence,
+    rank_correlation,
+    ranking,
+    table,
+    wall_load_table,
+    write_table,
+)
+from partmesh.sweeps import SweepRun, execute, finished
 
 #: the study's parts: the 11 moderate-blast configurations of the seed study's
 #: first table; its staggered variants (layers, standoff, trap gap, the
@@ -43,7 +54,7 @@ TRAP_GAPS = (0.02, 0.04, 0.08, 0.12, 0.16)
 BASE_LAYERS, BASE_STANDOFF = 3, 0.34
 #: the time of the snapshots (seed study, Fig. 6)
 SNAPSHOT_TIME = 1.7e-3
-#: the wall loads compared between methods (:func:`compare.report.agreement`)
+#: the wall loads compared between methods (:func:`partmesh.compare.report.agreement`)
 AGREEMENT = ("wall_force_peak_raw", "wall_force_peak_fitted", "wall_impulse_final", "wall_arrival_time",
              "wall_peak_pressure_fitted")
 ROWS = 3
@@ -60,7 +71,6 @@ class Configuration:
     and the scene (``case`` with ``parameters``) it runs; the methods of
     ``whole_channel`` run an array on the whole channel instead of one row
     pitch (``one_period`` false)."""
-
     label: str
     case: str
     parameters: tuple = ()
@@ -176,7 +186,7 @@ def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: di
               progress: bool = True, configs: list[Configuration] | None = None) -> pd.DataFrame:
     """Run every configuration of ``parts`` (or the given ``configs``) with every one of ``methods``
     (``dx``: method -> spacing, default each scene's) into
-    ``output/runs/`` on Dask (:func:`cases.sweep.execute`; ``settings`` go
+    ``output/runs/`` on Dask (:func:`partmesh.sweeps.execute`; ``settings`` go
     to the methods that take them; a run shared by two parts runs once),
     then write the report of :func:`report_study` of each part into
     ``output/<part>/``; returns the table of every part, with its ``part``."""
@@ -195,7 +205,7 @@ def run_study(methods, parts=("moderate",), output: str | Path = "study", dx: di
 
 
 def _reported(records: list[dict]) -> list[dict]:
-    """The records of :func:`cases.sweep.execute`, after printing the runs that failed and why."""
+    """The records of :func:`partmesh.sweeps.execute`, after printing the runs that failed and why."""
     for r in records:
         if r["status"] == "failed":
             print(f"failed: {r['name']}: {r['message']}")
@@ -208,7 +218,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     written into ``folder`` (default ``output``):
 
     * ``wall_loads.csv``/``.json``/``.nc``: one row per configuration and
-      method (:func:`compare.report.wall_load_table`) with its blast;
+      method (:func:`partmesh.compare.report.wall_load_table`) with its blast;
     * ``ranking.csv``: the configurations of each blast ranked by wall
       impulse per method (1: the lowest impulse), ``rank_correlation.csv``:
       Spearman's ρ between the methods' rankings, per blast;
@@ -218,7 +228,7 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
       now took (``run_seconds``);
     * ``agreement.csv`` (fv and another method): per configuration and
       method, the relative difference of the wall loads from fv's
-      (:func:`compare.report.agreement`);
+      (:func:`partmesh.compare.report.agreement`);
     * figures: wall force and impulse of every configuration with its
       methods overlaid (``wall_force_<label>.png``), of every method and
       part of the study with its configurations overlaid
@@ -231,11 +241,6 @@ def report_study(configs, methods, output: Path, dx: dict | None = None, seconds
     ``seconds`` (run name -> seconds) adds the wall time the runs took
     here to the table's ``wall_seconds`` (solver time) as ``run_seconds``
     (NaN for a run not made now)."""
-    from compare import plots
-    from compare.io import read
-    from compare.report import agreement, rank_correlation, ranking, wall_load_table, write_table
-    from cases.sweep import finished
-
     dx = dict(dx or {})
     folder = output if folder is None else Path(folder)
     runs, labels, names, blasts, parts, missing = [], [], [], [], [], []
@@ -310,8 +315,6 @@ def _trends(table: pd.DataFrame, configs, folder: Path) -> None:
     figure (``trend_<part>.png``) and as a table (``trend.csv``); for the
     layers, the change of each load from 3 to 5 and from 5 to 7 layers
     (``layer_reduction.csv``, relative to the fewer layers)."""
-    from compare import plots
-
     by_label = {c.label: c for c in configs}
     rows = table[table["configuration"].isin(by_label)].copy()
     part = by_label[rows["configuration"].iloc[0]].part
@@ -352,10 +355,6 @@ def run_sensitivity(ladders: dict, output: str | Path = "study", label: str = "c
     figures against the finest fv run (relative error of the wall impulse
     and of the fitted peak wall force against wall time, Pareto front
     marked). Returns the table."""
-    from compare import plots
-    from compare.io import read
-    from compare.report import grid_convergence, table, write_table
-
     config = configuration(label)
     runs = [config.run(method, dx) for method, spacings in ladders.items() for dx in spacings]
     records = _reported(execute(runs, Path(output) / "runs", settings, scheduler, workers, progress,

@@ -1,8 +1,8 @@
 """Run a scene with any registered method.
 
 Methods are found through the ``partmesh.methods`` entry-point group (as
-xarray finds its backends): ``fv = "gridref.euler.method:METHOD"`` and so
-on, each a :class:`~cases.method.Method`. No solver module is imported
+xarray finds its backends): ``fv = "partmesh.gridref.euler.method:METHOD"`` and so
+on, each a :class:`~partmesh.cases.method.Method`. No solver module is imported
 until a run's settings and memory are checked (the particle methods'
 settings name numba's kernels, so numba may come first), and another
 package can add a method by declaring an entry point of its own.
@@ -10,25 +10,10 @@ package can add a method by declaring an entry point of its own.
 
 from __future__ import annotations
 
-from importlib.metadata import entry_points
-
-from cases.errors import InputError, Unsupported
-from cases.method import Method
-from cases.tiling import tiled
-from compare.schema import METHOD_GROUP
-
-
-def methods() -> dict:
-    """Registered methods: name -> entry point."""
-    return {ep.name: ep for ep in entry_points(group=METHOD_GROUP)}
-
-
-def registered(method: str) -> Method:
-    """The :class:`~cases.method.Method` registered as ``method``."""
-    available = methods()
-    if method not in available:
-        raise InputError(f"unknown method {method!r}; available methods: {', '.join(sorted(available)) or 'none'}.")
-    return available[method].load()
+from partmesh.cases import registry
+from partmesh.cases.errors import Unsupported
+from partmesh.cases.tiling import tiled
+from partmesh.ensembles import run_ensemble
 
 
 def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, workers: int | None = None,
@@ -42,19 +27,15 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
     method-specific ones). ``ensembles`` > 1 runs that many seeds of a
     stochastic method on Dask (the scheduler at ``scheduler``, or a
     LocalCluster of ``workers`` processes) and returns their average
-    (:func:`cases.ensemble.run_ensemble`). A run that fails raises
-    :class:`~cases.errors.SolverFailed` carrying the partial result.
+    (:func:`partmesh.ensembles.run_ensemble`). A run that fails raises
+    :class:`~partmesh.cases.errors.SolverFailed` carrying the partial result.
     """
     if isinstance(scene, str):
-        from cases.registry import get
-
-        scene = get(scene)
-    chosen = registered(method)
+        scene = registry.get(scene)
+    chosen = registry.method(method)
     if scene.medium != chosen.medium:
         raise Unsupported(f"method {method} runs {chosen.medium} scenes, and {scene.name} is a {scene.medium} scene.")
     if ensembles != 1:
-        from cases.ensemble import run_ensemble
-
         settings.pop("progress", None)  # (workers show none)
         ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)
     else:

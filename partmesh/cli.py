@@ -7,9 +7,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from cases.errors import InputError, SolverFailed
-from compare.report import IncompatibleResults
-from compare.schema import SchemaError
+from partmesh.bench import bench
+from partmesh.blast_study import run_sensitivity, run_study
+from partmesh.cases.errors import InputError, SolverFailed
+from partmesh.cases.registry import defaults, describe, get, names
+from partmesh.compare.io import write
+from partmesh.compare.report import IncompatibleResults
+from partmesh.compare.schema import SchemaError
+from partmesh.demo import demo
+from partmesh.dispatch import run
+from partmesh.reporting import report
+from partmesh.sweeps import sweep
 
 
 def _settings(pairs: list[str]) -> dict:
@@ -25,8 +33,6 @@ def _settings(pairs: list[str]) -> dict:
 
 
 def cmd_cases(args) -> int:
-    from cases.registry import defaults, describe, get, names
-
     for name in names():
         print(f"{name}: {describe(name)}")
         print(f"    {get(name).description}")
@@ -36,10 +42,6 @@ def cmd_cases(args) -> int:
 
 
 def cmd_run(args) -> int:
-    from cases.registry import defaults, get
-    from cases.run import run
-    from compare.io import write
-
     pairs = _settings(args.set)
     scene_keys = set(defaults(args.case))
     scene = get(args.case, **{k: v for k, v in pairs.items() if k in scene_keys})
@@ -77,8 +79,6 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from cases.sweep import sweep
-
     values = {key: [v.strip() for v in value.split(",")] for key, value in _settings(args.set).items()}
     settings = _settings(args.option)
     for key in ("t_end", "cfl"):
@@ -113,8 +113,6 @@ def _per_method(pairs, what: str, methods=None) -> dict:
 
 
 def cmd_study(args) -> int:
-    from cases.blast_study import run_sensitivity, run_study
-
     settings = _settings(args.option)
     options = dict(scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
     if args.ladder:
@@ -137,24 +135,18 @@ def cmd_study(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    from cases.reporting import compare_files
-
-    table = compare_files(args.runs, reference=args.reference, output=args.output)
+    table = report(args.runs, reference=args.reference, output=args.output)
     print(table.to_string(index=False))
     print(f"report written to {args.output}")
     return 0
 
 
 def cmd_demo(args) -> int:
-    from cases.demo import demo
-
     demo(Path(args.output), progress=not args.quiet)
     return 0
 
 
 def cmd_bench(args) -> int:
-    from cases.bench import bench
-
     bench(args.output, size=args.size, quick=args.quick)
     return 0
 

@@ -12,10 +12,10 @@ import os
 import platform
 from pathlib import Path
 
-from cases.registry import get
-from cases.run import methods, run
-from cases.run import registered as registered_method
-from compare.metrics import field_error
+from partmesh.cases import registry
+from partmesh.cases.registry import get
+from partmesh.compare.metrics import field_error
+from partmesh.dispatch import run
 
 #: sod L1(rho) targets for time-to-accuracy (SPEC §7)
 TARGETS = (1e-2, 3e-3)
@@ -26,7 +26,7 @@ SOD_LADDERS = {"dsmc": tuple({"dx": 1 / cells, "ppc": ppc} for cells, ppc in ((2
 
 
 def _machine() -> dict:
-    import jax
+    import jax  # (lazy: JAX loads only where a grid method or its device is asked for)
 
     return {"cpu_count": os.cpu_count(), "platform": platform.platform(), "device": str(jax.devices()[0]),
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "all")}
@@ -122,7 +122,7 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
     sizes = {"fv": (128 if quick else size, 0.02), "sph": (64 if quick else 448, 3e-3),
              "dsmc": (64 if quick else 258, 8e-3), "swe": (128 if quick else 1024, 0.05),
              "wcsph": (12 if quick else 50, 0.01)}
-    registered = methods()
+    registered = registry.methods()
     for method in (m for m in THROUGHPUT if m in registered):
         records += throughput(method, *sizes[method])
         if method == "swe":
@@ -131,7 +131,7 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
             # small grids, long enough to be timed: the rate a step loop keeps when a grid is small
             for n, t_end in SMALL_FV_GRIDS:
                 records += throughput(method, n, t_end)
-    for method in (m for m in registered if registered_method(m).medium == "gas"):  # (sod is a gas scene)
+    for method in (m for m in registered if registry.method(m).medium == "gas"):  # (sod is a gas scene)
         records += time_to_accuracy(method)
     for r in records:
         r["machine"] = _machine()

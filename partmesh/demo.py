@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cases.errors import Unsupported
-from cases.registry import get
-from cases.run import methods, run
-from compare.io import write
-from compare.report import report
+from partmesh.cases.errors import Unsupported
+from partmesh.cases.registry import get, methods
+from partmesh.compare.io import write
+from partmesh.compare.report import report
+from partmesh.dispatch import run
 
 #: method -> cell sizes (coarse, fine) per scene
 RESOLUTIONS = {"sod": (5e-3, 2.5e-3), "blast_wall": (2e-3, 1e-3)}

@@ -12,7 +12,7 @@ checkpoints saves its state to ``<name>.nc.checkpoint`` every
 ``checkpoint_every`` seconds of wall time (600 by default) and resumes from
 it when the sweep runs again. Ctrl-C or SIGTERM stops a sweep cleanly: each
 run under way ends its step and saves its state and its partial result, and
-no other run begins (:mod:`cases.checkpoint`). :func:`open_sweep` opens the
+no other run begins (:mod:`partmesh.cases.checkpoint`). :func:`open_sweep` opens the
 finished runs together with ``xarray.open_mfdataset``, along a dimension
 ``run`` that carries each run's method, ``dx``, scene parameters and
 solver settings as coordinates.
@@ -26,15 +26,23 @@ import time
 from dataclasses import dataclass, fields
 from pathlib import Path
 
-from cases.cluster import dask_client, local_workers, threads_per_run
-from cases.errors import InputError, SolverFailed
+import xarray as xr
+from tqdm.auto import tqdm
+
+from partmesh.cases import registry
+from partmesh.cases.checkpoint import Interrupted, clear_stop_request, request_stop, signals_raised, stop_requested
+from partmesh.cases.errors import InputError, SolverFailed
+from partmesh.cases.registry import defaults, get
+from partmesh.cluster import dask_client, local_workers, threads_per_run
+from partmesh.compare.io import opened, write
+from partmesh.compare.schema import SchemaError, parameters
+from partmesh.dispatch import run as run_scene
 
 
 @dataclass(frozen=True)
 class SweepRun:
     """One run of a sweep: ``values`` are its swept ``(key, value)`` pairs
     (scene parameters or solver settings), in the order they were given."""
-
     case: str
     method: str
     dx: float | None
@@ -56,13 +64,10 @@ def plan(case: str, methods, dx=(None,), values: dict | None = None) -> list[Swe
     once). Refuses an unknown method, a key that is neither a parameter of
     the scene nor a setting of any of the methods, or an empty list, with
     one sentence."""
-    from cases.registry import defaults
-    from cases.run import methods as registered
-
     methods, dx = list(methods), list(dx)
-    unknown = [m for m in methods if m not in registered()]
+    unknown = [m for m in methods if m not in registry.methods()]
     if unknown:
-        raise InputError(f"unknown method {unknown[0]!r}; available methods: {', '.join(sorted(registered()))}.")
+        raise InputError(f"unknown method {unknown[0]!r}; available methods: {', '.join(sorted(registry.methods()))}.")
     values = dict(values or {})
     for key, options in {"methods": methods, "dx": dx, **values}.items():
         if not list(options):
@@ -83,17 +88,12 @@ def plan(case: str, methods, dx=(None,), values: dict | None = None) -> list[Swe
 
 def solver_settings(method: str) -> set:
     """The names of ``method``'s settings."""
-    from cases.run import registered
-
-    return {f.name for f in fields(registered(method).settings)}
+    return {f.name for f in fields(registry.method(method).settings)}
 
 
 def finished(path: str | Path) -> bool:
     """Whether ``path`` holds a complete partmesh result (a readable file
     whose ``status`` is ``"ok"``; its data are not read)."""
-    from compare.io import opened
-    from compare.schema import SchemaError
-
     try:
         with opened(path) as ds:
             return ds.attrs.get("status") == "ok"
@@ -123,11 +123,7 @@ def execute(runs: list[SweepRun], output: str | Path = "runs", settings: dict | 
     that takes them. A bad scene parameter or setting is refused before
     anything runs. Returns the records of :func:`sweep`, in the order of
     ``runs``; stopped by a signal, raises
-    :class:`~cases.errors.SolverFailed` (:func:`_collected`)."""
-    from tqdm.auto import tqdm
-
-    from cases.registry import defaults
-
+    :class:`~partmesh.cases.errors.SolverFailed` (:func:`_collected`)."""
     settings = dict(settings or {})
     methods = sorted({run.method for run in runs})
     takes = {m: solver_settings(m) for m in methods}
@@ -169,10 +165,8 @@ def _collected(client, futures, bar, description: str) -> list[dict]:
     meanwhile asks every worker's runs to stop: each run under way ends its
     step and writes its state and partial result, a run not begun does not
     begin; then (or when a signal to a worker alone kept a run from
-    beginning) :class:`~cases.errors.SolverFailed` says how many of each."""
-    from distributed import as_completed
-
-    from cases.checkpoint import Interrupted, clear_stop_request, request_stop, signals_raised
+    beginning) :class:`~partmesh.cases.errors.SolverFailed` says how many of each."""
+    from distributed import as_completed  # (lazy: Dask, ~1 s to import, only for runs on a cluster)
 
     records, stop = {}, None
     try:
@@ -199,8 +193,6 @@ def _collected(client, futures, bar, description: str) -> list[dict]:
 
 
 def _scene(run: SweepRun, scene_keys):
-    from cases.registry import get
-
     return get(run.case, **{k: v for k, v in run.values if k in scene_keys})
 
 
@@ -208,21 +200,16 @@ def _run_and_write(run: SweepRun, path: str, scene_keys, settings: dict, threads
                    checkpointed: bool) -> dict:
     """One run on a worker: its result (or its partial result, when it
     fails) written atomically to ``path``; ``checkpointed``: its state
-    saved to ``path.checkpoint`` (:mod:`cases.checkpoint`), resumed from
+    saved to ``path.checkpoint`` (:mod:`partmesh.cases.checkpoint`), resumed from
     there when that file exists, and removed once the run is complete. Not
     begun (status ``"not begun"``) when its process was asked to stop."""
-    from cases.checkpoint import stop_requested
-
     record, stop = {"name": run.name, "path": path}, stop_requested()
     if stop is not None:
         return {**record, "status": "not begun", "seconds": 0.0, "message": f"not begun: the sweep was stopped by {stop}."}
     if threads:
-        import numba
+        import numba  # (lazy: numba loads only in a worker that runs particles)
 
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    from cases.run import run as run_scene
-    from compare.io import write
-
     given = {**settings, **{k: v for k, v in run.values if k not in scene_keys}, "progress": False}
     if run.dx is not None:
         given["dx"] = run.dx
@@ -250,8 +237,6 @@ def open_sweep(folder: str | Path, **kwargs):
     between the runs (NaN or "" for a run whose method has no such setting).
     Runs of one scene share its output grid; ``kwargs`` go to
     ``open_mfdataset``."""
-    import xarray as xr
-
     paths = sorted(str(p.resolve()) for p in Path(folder).glob("*.nc") if finished(p))
     if not paths:
         raise FileNotFoundError(f"no finished partmesh results in {str(folder)!r}.")
@@ -267,10 +252,6 @@ def _run_labels(paths) -> dict:
     """key -> {path: value} for ``method``, ``dx`` and the scalar scene
     parameters and solver settings (a setting wins over a scene parameter
     of the same name, e.g. ``t_end``) that are not the same in every run."""
-    import xarray as xr
-
-    from compare.schema import parameters
-
     runs = {}
     for path in paths:
         with xr.open_dataset(path) as ds:

@@ -1,0 +1,82 @@
+"""The parts a scene is made of: an imposed inflow state, a probe, the
+target wall and the output grid (:mod:`partmesh.cases.scene` puts them
+together)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Inflow:
+    """An imposed, possibly time-dependent, gas state on a boundary.
+
+    ``state(t)`` returns ``(rho, u, v, p)`` at time ``t`` [s]; velocities are
+    Cartesian components (an inflow through ``x_lo`` has ``u > 0``).
+    ``state(t, xp=jax.numpy)`` evaluates it on a traced ``t``, inside a
+    compiled time loop: a time-dependent state is written with the array
+    namespace ``xp`` (a constant one may ignore it).
+    """
+
+    state: Callable[[float], tuple[float, float, float, float]]
+    description: str
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A named point where a time series is recorded."""
+
+    name: str
+    x: float
+    y: float = 0.0
+
+
+@dataclass(frozen=True)
+class Wall:
+    """The target wall whose load is reported as ``wall_force``/``wall_impulse``.
+
+    ``height`` [m] is the wall's extent across the flow; in a 1D run the force
+    per metre depth is ``(p_wall - p0) * height`` so 1D and 2D results of the
+    same scene compare directly.
+    """
+
+    side: str
+    p0: float
+    height: float
+
+
+@dataclass(frozen=True)
+class OutputGrid:
+    """The scene's output grid: uniform cell centres over the domain, output
+    times, and the probe sampling interval."""
+
+    domain: tuple[tuple[float, float], ...]
+    shape: tuple[int, ...]  # (nx,) or (nx, ny)
+    times: tuple[float, ...]
+    dt_probe: float
+
+    @property
+    def spacing(self) -> tuple[float, ...]:
+        return tuple((hi - lo) / n for (lo, hi), n in zip(self.domain, self.shape))
+
+    def centres(self, axis: int) -> np.ndarray:
+        """Cell-centre coordinates along ``axis`` (0: x, 1: y)."""
+        (lo, hi), n = self.domain[axis], self.shape[axis]
+        return lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
+    @property
+    def x(self) -> np.ndarray:
+        return self.centres(0)
+
+    @property
+    def y(self) -> np.ndarray | None:
+        return self.centres(1) if len(self.shape) == 2 else None
+
+    def probe_times(self, t_end: float) -> np.ndarray:
+        """Sampling times 0, dt_probe, ... up to and including ``t_end``."""
+        n = int(np.floor(t_end / self.dt_probe + 1e-9))
+        t = np.arange(n + 1) * self.dt_probe
+        return t if np.isclose(t[-1], t_end) else np.append(t, t_end)

@@ -1,0 +1,7 @@
+"""``python -m partmesh``: the command line (:mod:`partmesh.cli`)."""
+
+import sys
+
+from partmesh.cli import main
+
+sys.exit(main())

@@ -1,0 +1,123 @@
+"""The package's layers point one way (SPEC §1): compare ← cases ← gridref,
+particle ← hybrid ← partmesh, with no import cycle, no import hidden in a
+function body, and every folder of the source tree installed under the one
+namespace ``partmesh``. Read from the source with ``ast``: nothing is
+imported to check it."""
+
+import ast
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: folder -> (its dotted name under partmesh, its layer)
+FOLDERS = {"compare": ("partmesh.compare", 0), "cases": ("partmesh.cases", 1), "gridref": ("partmesh.gridref", 2),
+           "particle": ("partmesh.particle", 2), "hybrid": ("partmesh.hybrid", 3), "partmesh": ("partmesh", 4)}
+#: imports that stay inside functions, each for a reason of its own
+LAZY = {
+    "distributed": "Dask's scheduler and workers start only for sweeps, ensembles and studies (about 1 s to import)",
+    "numba": "a Dask worker sets its numba threads before the run's kernels load",
+    "jax": "bench reads the device JAX runs on, and JAX loads only when a grid method runs",
+}
+
+
+def _modules() -> dict[str, Path]:
+    found = {}
+    for folder, (dotted, _) in FOLDERS.items():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            parts = list(path.relative_to(ROOT / folder).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            found[".".join([dotted, *parts])] = path
+    return found
+
+
+MODULES = _modules()
+
+
+def _layer(module: str) -> tuple[str, int]:
+    """The package a module belongs to and its layer (the top package's own modules are 'partmesh')."""
+    for dotted, layer in sorted(FOLDERS.values(), key=lambda v: -len(v[0])):
+        if module == dotted or module.startswith(dotted + "."):
+            return dotted, layer
+    raise KeyError(module)
+
+
+def _imports(module: str) -> list[tuple[str, bool, int]]:
+    """(imported name, whether inside a function, line) of every import of ``module``."""
+    path = MODULES[module]
+    tree = ast.parse(path.read_text(), str(path))
+    in_function = {id(node) for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
+                   for node in ast.walk(f) if isinstance(node, (ast.Import, ast.ImportFrom))}
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            names = [f"{base}.{a.name}" if f"{base}.{a.name}" in MODULES else base for a in node.names]
+        else:
+            continue
+        out += [(name, id(node) in in_function, node.lineno) for name in names]
+    return out
+
+
+def _graph() -> dict[str, set[str]]:
+    return {m: {name for name, _, _ in _imports(m) if name in MODULES} for m in MODULES}
+
+
+def test_every_package_of_the_tree_is_installed_under_partmesh():
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    packages = {m for m, p in MODULES.items() if p.name == "__init__.py"}
+    assert set(config["packages"]) == packages
+    assert config["package-dir"] == {dotted: folder for folder, (dotted, _) in FOLDERS.items()}
+
+
+def test_no_module_imports_from_a_layer_above_or_beside_its_own():
+    upward = []
+    for module in MODULES:
+        package, layer = _layer(module)
+        for name, _, line in _imports(module):
+            if name.split(".")[0] != "partmesh":
+                continue
+            target = next((m for m in sorted(MODULES, key=len, reverse=True)
+                           if name == m or name.startswith(m + ".")), name)
+            target_package, target_layer = _layer(target)
+            if target_layer > layer or (target_layer == layer and target_package != package):
+                upward.append(f"{module}:{line} imports {name}")
+    assert upward == []
+
+
+def test_the_import_graph_has_no_cycle():
+    graph, state, cycles = _graph(), {}, []
+
+    def visit(module, stack):
+        state[module] = "open"
+        for target in sorted(graph[module]):
+            if state.get(target) == "open":
+                cycles.append(" -> ".join(stack[stack.index(target):] + [target]))
+            elif target not in state:
+                visit(target, stack + [target])
+        state[module] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])
+    assert cycles == []
+
+
+def test_imports_inside_functions_are_only_the_lazy_heavy_ones():
+    hidden = [f"{m}:{line} imports {name}" for m in MODULES for name, inside, line in _imports(m)
+              if inside and name.split(".")[0] not in LAZY]
+    assert hidden == []
+
+
+def test_the_checker_sees_the_imports_it_judges():
+    # (an empty graph would pass every test above)
+    graph = _graph()
+    assert "partmesh.compare.schema" in graph["partmesh.cases.history"]
+    assert "partmesh.cases.march" in graph["partmesh.particle.march"]
+    assert {"partmesh.gridref.euler.method", "partmesh.particle.sph.method"} <= set(graph)
