@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from partmesh.cases import checks, shapes
+from partmesh.cases import checks, shape_factories, shape_queries
+from partmesh.cases.disc import disc_density, disc_fraction
 from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from partmesh.cases.shapes import disc_density, disc_fraction
 from partmesh.compare import exact, metrics
 
 NEGATIVE_PHASE = ("friedlander", "none")
@@ -136,9 +136,9 @@ def array_rods(shape, arrangement, rows, layers, column_pitch, size, standoff, t
     shifted by half a pitch, to y = k ``ROW_PITCH``, and its rods at y = 0
     and y = W = ``rows`` ``ROW_PITCH`` are the two halves of one rod cut by
     the periodic sides (both listed). Every shape has the frontal extent
-    ``size`` (:data:`partmesh.cases.shapes.SHAPES`), so the blockage is
+    ``size`` (:data:`partmesh.cases.shape_factories.SHAPES`), so the blockage is
     ``size/ROW_PITCH`` for all of them."""
-    make = shapes.SHAPES[shape]
+    make = shape_factories.SHAPES[shape]
     centres = column_pitch * np.arange(layers, dtype=float)
     centres[: layers // 2] -= trap_gap
     face = make(0.0, 0.0, size).bounds()[2]  # downstream face relative to the centre
@@ -162,7 +162,7 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     row pitch, so this is the same flow at a third of the cost for rows = 3 (a flow that breaks the
     symmetry between rows, which the full channel would allow, is left out)."""
     rho0, p0, gamma, t_end = _checked_blast(blast, negative_phase, rho0, p0, gamma, t_end)
-    checks.choice("shape", shape, tuple(shapes.SHAPES))
+    checks.choice("shape", shape, tuple(shape_factories.SHAPES))
     checks.choice("arrangement", arrangement, ARRANGEMENTS)
     rows, layers = checks.integer("rows", rows, 1), checks.integer("layers", layers, 1)
     length = checks.positive("length", length)
@@ -177,7 +177,7 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     rods = array_rods(shape, arrangement, 1 if one_period else rows, layers, column_pitch, size, standoff, trap_gap,
                       length)
     for k, rod in enumerate(rods):
-        if any(shapes.overlaps(rod, other) for other in rods[k + 1:]):
+        if any(shape_queries.overlaps(rod, other) for other in rods[k + 1:]):
             raise checks.InputError(f"column_pitch = {column_pitch:g} m is too small for {shape} rods of size "
                                     f"{size:g} m ({arrangement}): neighbouring columns overlap.")
     upstream = min(rod.bounds()[0] for rod in rods)

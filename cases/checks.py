@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from partmesh.cases.parts import Inflow
-from partmesh.cases.shapes import overlaps
+from partmesh.cases.shape_queries import overlaps
 from partmesh.compare.checks import (
     InputError,
     choice,

@@ -7,7 +7,7 @@ import numpy as np
 
 from partmesh.cases import checks
 from partmesh.cases.scene import OutputGrid, Probe, Scene, Wall
-from partmesh.cases.shapes import polygon
+from partmesh.cases.shape_factories import polygon
 from partmesh.cases.verification import AIR
 from partmesh.compare import exact
 

@@ -27,19 +27,8 @@ Conventions
 * **Polygon** vertices may be given in either orientation; they are stored
   counter-clockwise (positive shoelace area).
 * Shapes are frozen dataclasses; ``shape.to_dict()`` gives a JSON-friendly
-  ``{"shape": name, ...params}`` and :func:`from_dict` rebuilds the shape
+  ``{"shape": name, ...params}`` and :func:`~partmesh.cases.shape_factories.from_dict` rebuilds the shape
   (``from_dict(s.to_dict()) == s``).
-
-Blast-array factories
----------------------
-:func:`circle`, :func:`square`, :func:`triangle_left`, :func:`triangle_right`
-and :func:`diamond` (collected in :data:`SHAPES`) all take
-``(cx, cy, size)`` and return a shape whose frontal extent across ``y`` (the
-height seen by a blast travelling in ``+x``) equals ``size``, so an array of
-any of them has the same blockage ratio.  The triangles are equilateral with
-side ``size`` and a vertical flat side; by default they are centred on their
-centroid (``anchor="centroid"``), ``anchor="bbox"`` centres the bounding box
-instead.
 
 All evaluations are vectorised over arrays of points (numpy broadcasting of
 ``x`` and ``y``); the only Python loops run over the few edges of a polygon.
@@ -50,53 +39,34 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
 from partmesh.compare.checks import number, positive
 
-__all__ = [
-    "Shape",
-    "Circle",
-    "Polygon",
-    "circle",
-    "square",
-    "triangle_left",
-    "triangle_right",
-    "diamond",
-    "wedge",
-    "polygon",
-    "SHAPES",
-    "CIRCLE_SEGMENTS",
-    "from_dict",
-    "signed_distance",
-    "solid_mask",
-    "nearest",
-    "normal",
-    "segment_normals",
-    "overlaps",
-]
+__all__ = ["CIRCLE_SEGMENTS", "REL_TOL", "Circle", "Polygon", "Shape", "as_points", "cross", "segment_normals"]
 
 #: Number of segments used by ``Circle.segments()`` when no spacing is given.
 #: With 128 chords the polygon area is within 4.1e-4 (relative) of pi r^2.
 CIRCLE_SEGMENTS = 128
 
-# relative tolerance (times the length scale of the shapes involved) below
-# which two points, or a point and an edge, are considered to coincide
-_REL_TOL = 1e-9
+#: relative tolerance (times the length scale of the shapes involved) below
+#: which two points, or a point and an edge, are considered to coincide
+REL_TOL = 1e-9
 
 
 # --------------------------------------------------------------------------
 # input validation helpers
 # --------------------------------------------------------------------------
-def _xy(x, y) -> tuple[np.ndarray, np.ndarray]:
+def as_points(x, y) -> tuple[np.ndarray, np.ndarray]:
+    """Point coordinates ``x``, ``y`` as float arrays of one broadcast shape."""
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     return np.broadcast_arrays(x, y)
 
 
-def _cross(ax, ay, bx, by):
+def cross(ax, ay, bx, by):
+    """The z component of the cross product a × b of 2D vectors."""
     return ax * by - ay * bx
 
 
@@ -218,12 +188,12 @@ class Circle(Shape):
         object.__setattr__(self, "radius", positive("radius", self.radius))
 
     def signed_distance(self, x, y) -> np.ndarray:
-        x, y = _xy(x, y)
+        x, y = as_points(x, y)
         return np.hypot(x - self.cx, y - self.cy) - self.radius
 
     def normal(self, x, y) -> tuple[np.ndarray, np.ndarray]:
         """Radial unit vector; at the exact centre (undefined) ``(1, 0)``."""
-        x, y = _xy(x, y)
+        x, y = as_points(x, y)
         dx, dy = x - self.cx, y - self.cy
         r = np.hypot(dx, dy)
         at_centre = r == 0.0
@@ -299,10 +269,10 @@ def _segments_touch(a, b, c, d, tol) -> np.ndarray:
     ls = np.hypot(sx, sy)
     # signed distances (scaled orientation tests) of each end point to the
     # other segment's line
-    o1 = _cross(rx, ry, c[..., 0] - a[..., 0], c[..., 1] - a[..., 1]) / lr
-    o2 = _cross(rx, ry, d[..., 0] - a[..., 0], d[..., 1] - a[..., 1]) / lr
-    o3 = _cross(sx, sy, a[..., 0] - c[..., 0], a[..., 1] - c[..., 1]) / ls
-    o4 = _cross(sx, sy, b[..., 0] - c[..., 0], b[..., 1] - c[..., 1]) / ls
+    o1 = cross(rx, ry, c[..., 0] - a[..., 0], c[..., 1] - a[..., 1]) / lr
+    o2 = cross(rx, ry, d[..., 0] - a[..., 0], d[..., 1] - a[..., 1]) / lr
+    o3 = cross(sx, sy, a[..., 0] - c[..., 0], a[..., 1] - c[..., 1]) / ls
+    o4 = cross(sx, sy, b[..., 0] - c[..., 0], b[..., 1] - c[..., 1]) / ls
     s1, s2, s3, s4 = (np.where(np.abs(o) <= tol, 0, np.sign(o)) for o in (o1, o2, o3, o4))
     proper = (s1 * s2 < 0) & (s3 * s4 < 0)
 
@@ -352,7 +322,7 @@ class Polygon(Shape):
         if len(v) < 3:
             raise ValueError(f"vertices must hold at least 3 distinct (x, y) points, got {len(v)}.")
         scale = float(np.max(np.ptp(v, axis=0)))
-        tol = _REL_TOL * max(scale, np.finfo(float).tiny)
+        tol = REL_TOL * max(scale, np.finfo(float).tiny)
         edges = np.roll(v, -1, axis=0) - v
         elen = np.hypot(edges[:, 0], edges[:, 1])
         if scale == 0.0 or np.any(elen <= tol):
@@ -363,7 +333,7 @@ class Polygon(Shape):
             )
         _check_no_crossing(v, tol)
         area = _shoelace(v)
-        if abs(area) <= _REL_TOL * scale * scale:
+        if abs(area) <= REL_TOL * scale * scale:
             raise ValueError(f"vertices must enclose a positive area, got area {abs(area):.3g}.")
         _check_no_spike(v)
         if area < 0:
@@ -400,7 +370,7 @@ class Polygon(Shape):
     # ---- core query ------------------------------------------------------
     def _query(self, x, y):
         """(phi, edge index, clamped t, px, py) of the closest surface point."""
-        x, y = _xy(x, y)
+        x, y = as_points(x, y)
         v = self._v
         n = len(v)
         d2 = np.full(x.shape, np.inf)
@@ -429,7 +399,7 @@ class Polygon(Shape):
         return phi, best, tbest, px, py, x, y
 
     def signed_distance(self, x, y) -> np.ndarray:
-        x, y = _xy(x, y)
+        x, y = as_points(x, y)
         v = self._v
         n = len(v)
         d2 = np.full(x.shape, np.inf)
@@ -538,7 +508,7 @@ def _check_no_spike(v: np.ndarray) -> None:
     ep = np.roll(e, 1, axis=0)
     le = np.hypot(e[:, 0], e[:, 1])
     lp = np.hypot(ep[:, 0], ep[:, 1])
-    sin = _cross(ep[:, 0], ep[:, 1], e[:, 0], e[:, 1]) / (le * lp)
+    sin = cross(ep[:, 0], ep[:, 1], e[:, 0], e[:, 1]) / (le * lp)
     cos = (ep[:, 0] * e[:, 0] + ep[:, 1] * e[:, 1]) / (le * lp)
     spike = (np.abs(sin) <= 1e-12) & (cos < 0)
     if np.any(spike):
@@ -565,300 +535,3 @@ def _check_no_crossing(v: np.ndarray, tol: float) -> None:
             f"vertices must form a simple (non-self-intersecting) polygon, but edge {i[m]} "
             f"meets edge {j[m]}."
         )
-
-
-# --------------------------------------------------------------------------
-# factories (equal frontal extent ``size`` across y for the blast array)
-# --------------------------------------------------------------------------
-def _centre(cx, cy) -> tuple[float, float]:
-    return number("cx", cx), number("cy", cy)
-
-
-def circle(cx: float, cy: float, size: float) -> Circle:
-    """Circle of diameter ``size`` centred at ``(cx, cy)``."""
-    cx, cy = _centre(cx, cy)
-    return Circle(cx, cy, 0.5 * positive("size", size))
-
-
-def square(cx: float, cy: float, size: float) -> Polygon:
-    """Axis-aligned square of side ``size`` centred at ``(cx, cy)``."""
-    cx, cy = _centre(cx, cy)
-    h = 0.5 * positive("size", size)
-    return Polygon(((cx - h, cy - h), (cx + h, cy - h), (cx + h, cy + h), (cx - h, cy + h)))
-
-
-def _triangle(cx, cy, size, anchor, apex_left: bool) -> Polygon:
-    cx, cy = _centre(cx, cy)
-    a = positive("size", size)
-    h = a * math.sqrt(3.0) / 2.0  # altitude along x
-    if anchor == "centroid":
-        off = h / 6.0  # centroid sits h/3 from the base, bbox centre h/2
-    elif anchor == "bbox":
-        off = 0.0
-    else:
-        raise ValueError(f"anchor must be 'centroid' or 'bbox', got {anchor!r}.")
-    if apex_left:
-        # x-extent relative to the bbox centre: apex at -h/2, base at +h/2;
-        # the centroid lies at +h/6, so shift by -h/6 to put it at cx
-        xa, xb = cx - h / 2 - off, cx + h / 2 - off
-        return Polygon(((xa, cy), (xb, cy - a / 2), (xb, cy + a / 2)))
-    xb, xa = cx - h / 2 + off, cx + h / 2 + off
-    return Polygon(((xb, cy - a / 2), (xa, cy), (xb, cy + a / 2)))
-
-
-def triangle_left(cx: float, cy: float, size: float, anchor: str = "centroid") -> Polygon:
-    """Equilateral triangle of side ``size`` with its apex pointing upstream
-    (toward -x) and its flat vertical base facing downstream (+x).
-
-    Frontal extent (base height) = ``size``; x-extent = ``size * sqrt(3)/2``.
-    ``anchor="centroid"`` (default) puts the centroid at ``(cx, cy)`` (apex at
-    ``cx - size/sqrt(3)``, base at ``cx + size/(2 sqrt(3))``); ``"bbox"``
-    centres the bounding box there instead.
-    """
-    return _triangle(cx, cy, size, anchor, apex_left=True)
-
-
-def triangle_right(cx: float, cy: float, size: float, anchor: str = "centroid") -> Polygon:
-    """Equilateral triangle of side ``size`` with its flat vertical base facing
-    the blast (on the -x side) and its apex pointing downstream (toward +x).
-    The mirror image of :func:`triangle_left` about ``x = cx``; same anchors."""
-    return _triangle(cx, cy, size, anchor, apex_left=False)
-
-
-def diamond(cx: float, cy: float, size: float) -> Polygon:
-    """Square rotated by 45 degrees with diagonal ``size`` (both diagonals
-    along the axes), centred at ``(cx, cy)``."""
-    cx, cy = _centre(cx, cy)
-    h = 0.5 * positive("size", size)
-    return Polygon(((cx - h, cy), (cx, cy - h), (cx + h, cy), (cx, cy + h)))
-
-
-def wedge(x_apex: float, y_wall: float, half_angle_deg: float, length: float) -> Polygon:
-    """Upper half of a symmetric wedge standing on the wall ``y = y_wall``:
-    the triangle ``(x_apex, y_wall), (x_apex + length, y_wall),
-    (x_apex + length, y_wall + length tan(theta))``, apex pointing upstream."""
-    x0 = number("x_apex", x_apex)
-    y0 = number("y_wall", y_wall)
-    theta = number("half_angle_deg", half_angle_deg)
-    if not 0.0 < theta < 90.0:
-        raise ValueError(f"half_angle_deg must lie in (0, 90) degrees, got {half_angle_deg!r}.")
-    length = positive("length", length)
-    top = length * math.tan(math.radians(theta))
-    return Polygon(((x0, y0), (x0 + length, y0), (x0 + length, y0 + top)))
-
-
-def polygon(vertices: Sequence[Sequence[float]]) -> Polygon:
-    """Simple polygon from ``(x, y)`` vertices in either orientation."""
-    return Polygon(vertices)
-
-
-#: The blast-array shapes, all ``f(cx, cy, size)`` with frontal extent ``size``.
-SHAPES = {
-    "circle": circle,
-    "square": square,
-    "triangle_left": triangle_left,
-    "triangle_right": triangle_right,
-    "diamond": diamond,
-}
-
-_FACTORIES = {**SHAPES, "wedge": wedge}
-
-
-def from_dict(d: Mapping[str, Any]) -> Shape:
-    """Rebuild a shape from ``to_dict()`` output.
-
-    Accepts ``{"shape": "circle", "cx", "cy", "radius"}``,
-    ``{"shape": "polygon", "vertices": [[x, y], ...]}``, and the factory forms
-    ``{"shape": <name in SHAPES>, "cx", "cy", "size"[, "anchor"]}`` and
-    ``{"shape": "wedge", "x_apex", "y_wall", "half_angle_deg", "length"}``.
-    """
-    if not isinstance(d, Mapping) or "shape" not in d:
-        raise ValueError("d must be a mapping with a 'shape' key naming the shape.")
-    kind = d["shape"]
-    params = {k: v for k, v in d.items() if k != "shape"}
-    allowed = sorted({"circle", "polygon", *_FACTORIES})
-    try:
-        if kind == "circle" and "radius" in params:
-            return Circle(**params)
-        if kind == "polygon":
-            return Polygon(tuple(tuple(p) for p in params["vertices"]))
-        if kind in _FACTORIES:
-            return _FACTORIES[kind](**params)
-    except (TypeError, KeyError) as exc:
-        raise ValueError(f"d has the wrong parameters for shape {kind!r}: {exc}.") from None
-    raise ValueError(f"shape must be one of {allowed}, got {kind!r}.")
-
-
-# --------------------------------------------------------------------------
-# collections of shapes
-# --------------------------------------------------------------------------
-def _as_list(shapes) -> list[Shape]:
-    if isinstance(shapes, Shape):
-        return [shapes]
-    return list(shapes)
-
-
-def signed_distance(shapes: Iterable[Shape] | Shape, x, y) -> np.ndarray:
-    """Signed distance of the union of ``shapes``: the minimum over shapes
-    (exact outside the solids; inside it is exact for non-overlapping
-    shapes).  ``+inf`` everywhere for an empty collection."""
-    x, y = _xy(x, y)
-    out = np.full(x.shape, np.inf)
-    for s in _as_list(shapes):
-        out = np.minimum(out, s.signed_distance(x, y))
-    return out
-
-
-def solid_mask(shapes: Iterable[Shape] | Shape, x, y) -> np.ndarray:
-    """True where a point lies strictly inside any of ``shapes``."""
-    return signed_distance(shapes, x, y) < 0.0
-
-
-def nearest(shapes: Iterable[Shape] | Shape, x, y) -> tuple[np.ndarray, np.ndarray]:
-    """``(phi, index)``: union signed distance and the index of the shape
-    that attains it (-1 where the collection is empty)."""
-    x, y = _xy(x, y)
-    phi = np.full(x.shape, np.inf)
-    idx = np.full(x.shape, -1, dtype=np.intp)
-    for k, s in enumerate(_as_list(shapes)):
-        p = s.signed_distance(x, y)
-        closer = p < phi
-        phi = np.where(closer, p, phi)
-        idx = np.where(closer, k, idx)
-    return phi, idx
-
-
-def normal(shapes: Iterable[Shape] | Shape, x, y) -> tuple[np.ndarray, np.ndarray]:
-    """Outward unit normal of the nearest shape's closest surface point
-    (NaN where the collection is empty)."""
-    x, y = _xy(x, y)
-    shapes = _as_list(shapes)
-    _, idx = nearest(shapes, x, y)
-    nx = np.full(x.shape, np.nan)
-    ny = np.full(x.shape, np.nan)
-    for k, s in enumerate(shapes):
-        sel = idx == k
-        if np.any(sel):
-            a, b = s.normal(x[sel], y[sel])
-            nx[sel], ny[sel] = a, b
-    return nx, ny
-
-
-# --------------------------------------------------------------------------
-# overlap test
-# --------------------------------------------------------------------------
-def _polygon_interiors_meet(a: Polygon, b: Polygon, tol: float) -> bool:
-    """Exact test whether the open interiors of two simple polygons intersect.
-
-    Each edge of ``a`` is split at every point where it meets the boundary of
-    ``b`` (edge crossings and ``b``'s vertices on it); the midpoint of each
-    piece is then either strictly inside ``b`` (interiors meet), strictly
-    outside, or on ``b``'s boundary (a shared stretch of edge: the interiors
-    meet iff both outward normals point the same way).  Done both ways round,
-    this is complete: the boundary of ``int a & int b`` is made of such pieces.
-    """
-    va, vb = a._v, b._v
-    na = len(va)
-    b0 = vb
-    b1 = np.roll(vb, -1, axis=0)
-    sx, sy = b1[:, 0] - b0[:, 0], b1[:, 1] - b0[:, 1]
-    mids, outn = [], []
-    for k in range(na):
-        p, q = va[k], va[(k + 1) % na]
-        rx, ry = q - p
-        ll = rx * rx + ry * ry
-        ts = [np.array([0.0, 1.0])]
-        # crossings with non-parallel edges of b
-        den = _cross(rx, ry, sx, sy)
-        ok = np.abs(den) > 1e-14 * math.sqrt(ll) * np.hypot(sx, sy)
-        dsafe = np.where(ok, den, 1.0)
-        cx_, cy_ = b0[:, 0] - p[0], b0[:, 1] - p[1]
-        t = _cross(cx_, cy_, sx, sy) / dsafe
-        u = _cross(cx_, cy_, rx, ry) / dsafe
-        good = ok & (t > 0) & (t < 1) & (u >= -1e-12) & (u <= 1 + 1e-12)
-        ts.append(t[good])
-        # b's vertices lying on this edge
-        tv = ((vb[:, 0] - p[0]) * rx + (vb[:, 1] - p[1]) * ry) / ll
-        dist = np.abs(_cross(rx, ry, vb[:, 0] - p[0], vb[:, 1] - p[1])) / math.sqrt(ll)
-        ts.append(tv[(dist <= tol) & (tv > 0) & (tv < 1)])
-        tt = np.unique(np.concatenate(ts))
-        tm = 0.5 * (tt[:-1] + tt[1:])[np.diff(tt) * math.sqrt(ll) > tol]
-        mids.append(p[None, :] + tm[:, None] * (q - p)[None, :])
-        outn.append(np.repeat(a._edge_normals[k][None, :], len(tm), axis=0))
-    m = np.concatenate(mids)
-    en = np.concatenate(outn)
-    phi = b.signed_distance(m[:, 0], m[:, 1])
-    if np.any(phi < -tol):
-        return True
-    on = np.abs(phi) <= tol
-    if np.any(on):
-        nx, ny = b.normal(m[on, 0], m[on, 1])
-        if np.any(nx * en[on, 0] + ny * en[on, 1] > 0.5):
-            return True
-    return False
-
-
-def overlaps(a: Shape, b: Shape, clearance: float = 0.0) -> bool:
-    """Whether the solids ``a`` and ``b`` come closer than ``clearance``.
-
-    True if their interiors intersect, or if the gap between them is smaller
-    than ``clearance`` (within a relative tolerance of 1e-9 of the shapes'
-    size).  Shapes that merely touch do NOT overlap at ``clearance = 0``.
-    The test is exact (no sampling): circle/circle compares the centre
-    distance with the radii; circle/polygon compares the polygon's signed
-    distance at the centre with the radius; polygon/polygon tests the
-    interiors exactly (edges split at all mutual contacts, see
-    ``_polygon_interiors_meet``) and takes the gap as the smallest
-    vertex-to-boundary distance, which is exact for disjoint polygons.
-    """
-    clearance = float(clearance)
-    if not (math.isfinite(clearance) and clearance >= 0.0):
-        raise ValueError(f"clearance must be a finite number >= 0, got {clearance!r}.")
-    tol = _REL_TOL * max(a.length_scale(), b.length_scale())
-    if isinstance(a, Circle) and isinstance(b, Circle):
-        gap = math.hypot(a.cx - b.cx, a.cy - b.cy) - a.radius - b.radius
-        return gap < clearance - tol
-    if isinstance(a, Circle) and isinstance(b, Polygon):
-        a, b = b, a
-    if isinstance(a, Polygon) and isinstance(b, Circle):
-        gap = float(a.signed_distance(b.cx, b.cy)) - b.radius
-        return gap < clearance - tol
-    if isinstance(a, Polygon) and isinstance(b, Polygon):
-        if _polygon_interiors_meet(a, b, tol) or _polygon_interiors_meet(b, a, tol):
-            return True
-        if clearance == 0.0:
-            return False
-        gap = min(
-            float(np.min(np.abs(b.signed_distance(a._v[:, 0], a._v[:, 1])))),
-            float(np.min(np.abs(a.signed_distance(b._v[:, 0], b._v[:, 1])))),
-        )
-        return gap < clearance - tol
-    raise ValueError(
-        f"a and b must be Circle or Polygon shapes, got {type(a).__name__} and {type(b).__name__}."
-    )
-
-
-def disc_fraction(x, y, radius: float, dx: float) -> np.ndarray:
-    """The fraction of each square cell of side ``dx`` centred at ``(x, y)``
-    that lies within ``radius`` of the origin, from 8×8 sub-samples."""
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    sub = (np.arange(8) + 0.5) / 8 - 0.5
-    sx, sy = np.meshgrid(sub * dx, sub * dx)
-    near = np.hypot(x, y) < radius + dx
-    fraction = np.zeros(np.broadcast(x, y).shape)
-    fraction[near] = (np.hypot(x[near][:, None] + sx.ravel(), y[near][:, None] + sy.ravel()) < radius).mean(axis=1)
-    return fraction
-
-
-def disc_density(x, y, radius: float, dx: float) -> np.ndarray:
-    """A deposit spread over the disc of ``radius`` at the origin, per unit
-    area and per unit of the total: :func:`disc_fraction` divided by its
-    integral Σ f dx² over the lattice of cells of side ``dx`` with edges
-    on the axes. On such a lattice (or any part of it: a quadrant) the
-    deposit sums to the total to round-off; the value at a point depends on
-    that point alone, so a subset of points (a boundary sample, particles
-    laid out in pieces) gets the same values."""
-    n = int(np.ceil(radius / dx)) + 1
-    centres = (np.arange(-n, n) + 0.5) * dx
-    area = disc_fraction(*np.meshgrid(centres, centres), radius, dx).sum() * dx * dx
-    return disc_fraction(x, y, radius, dx) / area

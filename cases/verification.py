@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from partmesh.cases import checks
+from partmesh.cases.disc import disc_density
 from partmesh.cases.errors import InputError
 from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
-from partmesh.cases.shapes import Circle, Polygon, disc_density
+from partmesh.cases.shapes import Circle, Polygon
 from partmesh.compare import exact, metrics
 
 #: Toro (2009) Table 4.1 states usable through ``sod``'s ``preset``:
@@ -160,7 +161,7 @@ def sedov(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_ou
         """Energy E deposited uniformly over the disc r < max(r_init, 2 dx),
         weighted by each cell's covered fraction (8×8 sub-samples) and
         normalised so the deposited total is exactly E on a lattice of side
-        dx with edges on the axes (:func:`~partmesh.cases.shapes.disc_density`)."""
+        dx with edges on the axes (:func:`~partmesh.cases.disc.disc_density`)."""
         p = p0 + (gamma - 1.0) * E * disc_density(x, y, max(r_init, 2.0 * dx), dx)
         return rho0, 0.0, 0.0, p
 

@@ -26,7 +26,7 @@ import pandas as pd
 from partmesh.cases.blast import ARRANGEMENTS, ROW_PITCH
 from partmesh.cases.errors import InputError
 from partmesh.cases.registry import get
-from partmesh.cases.shapes import SHAPES
+from partmesh.cases.shape_factories import SHAPES
 from partmesh.compare import plots
 from partmesh.compare.io import read
 from partmesh.compare.report import (

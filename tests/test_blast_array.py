@@ -7,7 +7,8 @@ import pytest
 import partmesh
 from partmesh.cases.blast import ROW_PITCH
 from partmesh.cases.errors import InputError
-from partmesh.cases.shapes import SHAPES, overlaps
+from partmesh.cases.shape_factories import SHAPES
+from partmesh.cases.shape_queries import overlaps
 
 SIZE = 0.0267
 

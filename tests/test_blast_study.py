@@ -13,10 +13,10 @@ import xarray as xr
 from scipy.stats import spearmanr
 
 import partmesh
-from partmesh.cases.blast import wall_load_metrics
 from partmesh.blast_study import PARTS, TRAP_GAPS, configurations, run_study
+from partmesh.cases.blast import wall_load_metrics
 from partmesh.cases.errors import InputError
-from partmesh.cases.shapes import SHAPES
+from partmesh.cases.shape_factories import SHAPES
 from partmesh.compare import exact
 from partmesh.compare.report import agreement, rank_correlation, ranking, wall_load_table
 

@@ -80,7 +80,7 @@ def test_same_seed_same_run_at_any_thread_count_other_seed_other_run(collisions)
 
 
 def test_obstacle_reflection_is_specular_and_leaves_no_particle_inside():
-    from partmesh.cases.shapes import circle, square
+    from partmesh.cases.shape_factories import circle, square
     from partmesh.particle.dsmc.walls import fly_past_obstacles, obstacle_polygons, push_out_of_obstacles
 
     body = square(0.5, 0.5, 0.2)  # the solid [0.4, 0.6]²
@@ -118,7 +118,7 @@ def test_safeguard_mirrors_points_out_of_whichever_body_holds_them():
     """Points strictly inside any of several bodies are found (against the
     bodies' exact signed distance) and mirrored across the nearest face:
     back outside, at the same distance from it; points outside stay put."""
-    from partmesh.cases.shapes import circle, square
+    from partmesh.cases.shape_factories import circle, square
     from partmesh.particle.dsmc.walls import inside_obstacles, obstacle_polygons, push_out_of_obstacles
 
     bodies = [square(0.2, 0.5, 0.2), circle(0.5, 0.5, 0.15), square(0.8, 0.3, 0.1)]
@@ -145,7 +145,7 @@ def test_safeguard_mirrors_points_out_of_whichever_body_holds_them():
 def test_closed_box_with_an_obstacle_keeps_mass_and_energy_and_no_particle_inside():
     import dataclasses
 
-    from partmesh.cases.shapes import circle
+    from partmesh.cases.shape_factories import circle
 
     # the Sedov blast hits a disc: specular polygon walls conserve energy exactly
     scene = dataclasses.replace(partmesh.scene("sedov", n_out=32, t_end=0.15), obstacles=(circle(0.0, 0.45, 0.2),))
@@ -205,7 +205,7 @@ def test_open_sides_hold_an_undisturbed_gas_undisturbed():
 def test_closed_box_with_obstacles_keeps_every_particle_outside_them_for_10000_steps():
     import dataclasses
 
-    from partmesh.cases.shapes import circle, diamond, square, triangle_right
+    from partmesh.cases.shape_factories import circle, diamond, square, triangle_right
     from partmesh.particle.dsmc.solve import _Gas
 
     # a Sedov blast in a closed box among four bodies with corners and curved faces

@@ -10,10 +10,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from partmesh.particle.dsmc.equilibrate import equilibrate
 from partmesh.particle.dsmc import random
-from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 from partmesh.particle.dsmc.cells import sort_into_cells
+from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 
 
 def _cells(sizes, rng, bulk=1.0, zeta=2.0):

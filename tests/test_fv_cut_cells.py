@@ -16,7 +16,7 @@ import pytest
 
 import partmesh
 from partmesh.cases.errors import InputError
-from partmesh.cases.shapes import circle, square
+from partmesh.cases.shape_factories import circle, square
 from partmesh.gridref.euler.immersed import MIX, immersed_boundary
 from partmesh.gridref.euler.state import conservative
 from partmesh.gridref.euler.step import Scheme, Stepper

@@ -12,18 +12,19 @@ import dataclasses
 import typing
 
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import partmesh
 from partmesh.cases.errors import InputError, SolverFailed
 from partmesh.cases.registry import method as registered
 from partmesh.cases.registry import methods
 from partmesh.cases.settings import RUN_CONTROLS
+from partmesh.gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
+from partmesh.gridref.swe.method import PRECISION_NAMES
 from partmesh.hybrid.cells import SENSORS
 from partmesh.particle.dsmc.method import COLLISIONS
 from partmesh.particle.kernels import KERNELS
-from partmesh.gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
-from partmesh.gridref.swe.method import PRECISION_NAMES
 
 METHODS = ("fv", "swe", "sph", "wcsph", "dsmc", "hybrid")
 #: a small scene of each method's medium, its dx and an end time a few steps into it

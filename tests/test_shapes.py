@@ -1,4 +1,4 @@
-"""Tests for partmesh.cases.shapes: signed distances, normals, surface sampling,
+"""Tests for partmesh.cases.shapes, shape_factories and shape_queries: signed distances, normals, surface sampling,
 segments, blast-array factories, overlap test and bad input."""
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ from hypothesis import strategies as st
 from matplotlib.path import Path
 from scipy.spatial import cKDTree
 
+from partmesh.cases import shape_factories as F
+from partmesh.cases import shape_queries as Q
 from partmesh.cases import shapes as S
 from partmesh.cases.shapes import Circle, Polygon
 
@@ -32,11 +34,11 @@ STAR = tuple(
 def all_test_shapes():
     return [
         Circle(0.3, -0.2, 0.7),
-        S.square(0.1, 0.2, 0.5),
-        S.triangle_left(0.0, 0.0, 0.8),
-        S.triangle_right(1.0, 0.5, 0.3),
-        S.diamond(-0.5, 0.5, 1.2),
-        S.wedge(0.1, 0.0, 20.0, 0.5),
+        F.square(0.1, 0.2, 0.5),
+        F.triangle_left(0.0, 0.0, 0.8),
+        F.triangle_right(1.0, 0.5, 0.3),
+        F.diamond(-0.5, 0.5, 1.2),
+        F.wedge(0.1, 0.0, 20.0, 0.5),
         Polygon(L_SHAPE),
         Polygon(STAR),
     ]
@@ -95,7 +97,7 @@ def box_sdf(x, y, cx, cy, h):
 @HYP
 @given(cx=st.floats(-3, 3), cy=st.floats(-3, 3), size=st.floats(0.05, 2), seed=st.integers(0, 2**31))
 def test_square_signed_distance_analytic(cx, cy, size, seed):
-    sq = S.square(cx, cy, size)
+    sq = F.square(cx, cy, size)
     x, y = random_points(sq, n=500, seed=seed, pad=size)
     np.testing.assert_allclose(sq.signed_distance(x, y), box_sdf(x, y, cx, cy, size / 2), atol=1e-12)
 
@@ -152,7 +154,7 @@ def test_random_star_polygon_against_brute_force(n, seed):
 
 
 def test_broadcasting_and_scalars():
-    for shp in (Circle(0, 0, 1), S.square(0, 0, 1)):
+    for shp in (Circle(0, 0, 1), F.square(0, 0, 1)):
         x = np.linspace(-2, 2, 7)[:, None]
         y = np.linspace(-2, 2, 5)[None, :]
         phi = shp.signed_distance(x, y)
@@ -160,7 +162,7 @@ def test_broadcasting_and_scalars():
         nx, ny = shp.normal(x, y)
         assert nx.shape == ny.shape == (7, 5)
         assert np.ndim(shp.signed_distance(0.0, 0.0)) == 0
-    assert float(S.square(0, 0, 1).signed_distance(0.0, 0.0)) == pytest.approx(-0.5)
+    assert float(F.square(0, 0, 1).signed_distance(0.0, 0.0)) == pytest.approx(-0.5)
 
 
 # --------------------------------------------------------------------------
@@ -195,7 +197,7 @@ def test_normal_is_gradient_of_signed_distance(shp):
 
 
 def test_normals_point_outward_specific_values():
-    sq = S.square(0, 0, 2)
+    sq = F.square(0, 0, 2)
     nx, ny = sq.normal(np.array([3.0, 0.0, 0.5, 2.0]), np.array([0.0, -3.0, 0.0, 2.0]))
     np.testing.assert_allclose(nx, [1, 0, 1, math.sqrt(0.5)], atol=1e-15)
     np.testing.assert_allclose(ny, [0, -1, 0, math.sqrt(0.5)], atol=1e-15)
@@ -247,7 +249,7 @@ def test_surface_points(shp, spacing):
 
 
 def test_surface_points_even_along_edges():
-    sq = S.square(0, 0, 1)
+    sq = F.square(0, 0, 1)
     pts, _ = sq.surface_points(0.3)  # each side in 4 pieces of 0.25
     assert len(pts) == 16
     step = np.hypot(*(np.roll(pts, -1, axis=0) - pts).T)
@@ -321,10 +323,10 @@ def test_polygon_stored_ccw_from_either_orientation():
 # --------------------------------------------------------------------------
 # blast-array factories
 # --------------------------------------------------------------------------
-@pytest.mark.parametrize("name", sorted(S.SHAPES))
+@pytest.mark.parametrize("name", sorted(F.SHAPES))
 def test_blast_shapes_equal_frontal_extent(name):
     zeta = 0.0267
-    shp = S.SHAPES[name](0.3, 0.06, zeta)
+    shp = F.SHAPES[name](0.3, 0.06, zeta)
     assert shp.frontal_extent() == pytest.approx(zeta, rel=1e-14)
     expected_area = {
         "circle": math.pi * zeta**2 / 4,
@@ -339,13 +341,13 @@ def test_blast_shapes_equal_frontal_extent(name):
     assert bool(shp.contains(0.3, 0.06))
     if isinstance(shp, Polygon):
         assert shp.centroid() == pytest.approx((0.3, 0.06), abs=1e-14)
-    assert S.from_dict(shp.to_dict()) == shp
+    assert F.from_dict(shp.to_dict()) == shp
 
 
 def test_triangle_orientation():
     zeta = 1.0
     h = math.sqrt(3) / 2
-    left = S.triangle_left(0.0, 0.0, zeta)
+    left = F.triangle_left(0.0, 0.0, zeta)
     v = np.asarray(left.vertices)
     i = int(np.argmin(v[:, 0]))
     assert np.sum(v[:, 0] == v[i, 0]) == 1  # a unique apex upstream
@@ -356,7 +358,7 @@ def test_triangle_orientation():
     assert base[0, 0] - v[i, 0] == pytest.approx(h)
     assert v[i, 0] == pytest.approx(-2 * h / 3)  # centroid anchor
 
-    right = S.triangle_right(0.0, 0.0, zeta)
+    right = F.triangle_right(0.0, 0.0, zeta)
     w = np.asarray(right.vertices)
     j = int(np.argmax(w[:, 0]))
     assert np.sum(w[:, 0] == w[j, 0]) == 1  # apex downstream
@@ -365,28 +367,28 @@ def test_triangle_orientation():
     # mirror images of each other about x = cx
     assert set(map(tuple, np.round(w * [-1, 1], 14))) == set(map(tuple, np.round(v, 14)))
 
-    bb = S.triangle_left(0.0, 0.0, zeta, anchor="bbox")
+    bb = F.triangle_left(0.0, 0.0, zeta, anchor="bbox")
     xmin, _, xmax, _ = bb.bounds()
     assert 0.5 * (xmin + xmax) == pytest.approx(0.0, abs=1e-15)
 
 
 def test_diamond_and_square_geometry():
-    d = S.diamond(0, 0, 2)
+    d = F.diamond(0, 0, 2)
     assert set(d.vertices) == {(-1.0, 0.0), (0.0, -1.0), (1.0, 0.0), (0.0, 1.0)}
     assert float(d.signed_distance(1.0, 1.0)) == pytest.approx(math.sqrt(0.5))
-    s = S.square(1, 1, 2)
+    s = F.square(1, 1, 2)
     assert s.bounds() == (0.0, 0.0, 2.0, 2.0)
 
 
 def test_wedge():
-    w = S.wedge(0.2, 0.0, 30.0, 1.0)
+    w = F.wedge(0.2, 0.0, 30.0, 1.0)
     v = np.asarray(w.vertices)
     np.testing.assert_allclose(v, [[0.2, 0], [1.2, 0], [1.2, math.tan(math.radians(30))]])
     assert w.frontal_extent() == pytest.approx(math.tan(math.radians(30)))
     # the upper face makes the half angle with the wall
     nx, ny = w.normal(0.7, 1.0)
     assert math.degrees(math.atan2(float(nx), float(ny))) == pytest.approx(-30.0)
-    assert S.from_dict({"shape": "wedge", "x_apex": 0.2, "y_wall": 0.0, "half_angle_deg": 30.0, "length": 1.0}) == w
+    assert F.from_dict({"shape": "wedge", "x_apex": 0.2, "y_wall": 0.0, "half_angle_deg": 30.0, "length": 1.0}) == w
 
 
 # --------------------------------------------------------------------------
@@ -396,35 +398,35 @@ def test_wedge():
 def test_dict_round_trip_through_json(shp):
     d = json.loads(json.dumps(shp.to_dict()))
     assert d["shape"] in ("circle", "polygon")
-    back = S.from_dict(d)
+    back = F.from_dict(d)
     assert back == shp and type(back) is type(shp)
     assert hash(back) == hash(shp)
 
 
 def test_from_dict_factory_forms():
-    assert S.from_dict({"shape": "square", "cx": 0, "cy": 0, "size": 1}) == S.square(0, 0, 1)
-    assert S.from_dict({"shape": "circle", "cx": 0, "cy": 0, "size": 1}) == Circle(0, 0, 0.5)
-    assert S.from_dict({"shape": "triangle_left", "cx": 0, "cy": 0, "size": 1, "anchor": "bbox"}) == (
-        S.triangle_left(0, 0, 1, anchor="bbox")
+    assert F.from_dict({"shape": "square", "cx": 0, "cy": 0, "size": 1}) == F.square(0, 0, 1)
+    assert F.from_dict({"shape": "circle", "cx": 0, "cy": 0, "size": 1}) == Circle(0, 0, 0.5)
+    assert F.from_dict({"shape": "triangle_left", "cx": 0, "cy": 0, "size": 1, "anchor": "bbox"}) == (
+        F.triangle_left(0, 0, 1, anchor="bbox")
     )
 
 
 def test_collection_union():
-    shapes = [Circle(0, 0, 1), S.square(3, 0, 1)]
+    shapes = [Circle(0, 0, 1), F.square(3, 0, 1)]
     x = np.array([0.0, 3.0, 1.5, 10.0])
     y = np.zeros(4)
-    phi = S.signed_distance(shapes, x, y)
+    phi = Q.signed_distance(shapes, x, y)
     np.testing.assert_allclose(phi, [-1.0, -0.5, 0.5, 6.5])
-    np.testing.assert_array_equal(S.solid_mask(shapes, x, y), [True, True, False, False])
-    _, idx = S.nearest(shapes, x, y)
+    np.testing.assert_array_equal(Q.solid_mask(shapes, x, y), [True, True, False, False])
+    _, idx = Q.nearest(shapes, x, y)
     np.testing.assert_array_equal(idx, [0, 1, 0, 1])
-    nx, ny = S.normal(shapes, x[2:], y[2:])
+    nx, ny = Q.normal(shapes, x[2:], y[2:])
     np.testing.assert_allclose(nx, [1.0, 1.0])
-    empty = S.signed_distance([], np.zeros((2, 3)), 0.0)
+    empty = Q.signed_distance([], np.zeros((2, 3)), 0.0)
     assert empty.shape == (2, 3) and np.all(np.isinf(empty)) and np.all(empty > 0)
-    assert not np.any(S.solid_mask([], x, y))
+    assert not np.any(Q.solid_mask([], x, y))
     # a single shape is accepted too
-    np.testing.assert_allclose(S.signed_distance(shapes[0], x, y), shapes[0].signed_distance(x, y))
+    np.testing.assert_allclose(Q.signed_distance(shapes[0], x, y), shapes[0].signed_distance(x, y))
 
 
 def test_translated():
@@ -440,8 +442,8 @@ def test_translated():
 # overlaps
 # --------------------------------------------------------------------------
 def both(a, b, clearance=0.0):
-    r1 = S.overlaps(a, b, clearance)
-    r2 = S.overlaps(b, a, clearance)
+    r1 = Q.overlaps(a, b, clearance)
+    r2 = Q.overlaps(b, a, clearance)
     assert r1 == r2
     return r1
 
@@ -459,15 +461,15 @@ def test_overlaps_circles():
 
 def test_overlaps_circle_polygon():
     c = Circle(0, 0, 0.5)
-    assert not both(c, S.square(1.0, 0, 1))  # touching at (0.5, 0)
-    assert both(c, S.square(0.99, 0, 1))
-    assert not both(c, S.square(2.0, 0, 1))
-    assert both(c, S.square(2.0, 0, 1), clearance=1.01)
-    assert not both(c, S.square(2.0, 0, 1), clearance=0.99)
-    assert both(c, S.square(0, 0, 0.1))  # polygon inside the circle
-    assert both(Circle(0, 0, 0.01), S.square(0, 0, 1))  # circle inside the polygon
+    assert not both(c, F.square(1.0, 0, 1))  # touching at (0.5, 0)
+    assert both(c, F.square(0.99, 0, 1))
+    assert not both(c, F.square(2.0, 0, 1))
+    assert both(c, F.square(2.0, 0, 1), clearance=1.01)
+    assert not both(c, F.square(2.0, 0, 1), clearance=0.99)
+    assert both(c, F.square(0, 0, 0.1))  # polygon inside the circle
+    assert both(Circle(0, 0, 0.01), F.square(0, 0, 1))  # circle inside the polygon
     # near a corner: the gap is measured to the vertex, not the edge lines
-    sq = S.square(1.0, 1.0, 1.0)  # corner at (0.5, 0.5)
+    sq = F.square(1.0, 1.0, 1.0)  # corner at (0.5, 0.5)
     gap = math.hypot(0.5, 0.5) - 0.5
     assert not both(c, sq)
     assert both(c, sq, clearance=gap * 1.001)
@@ -475,17 +477,17 @@ def test_overlaps_circle_polygon():
 
 
 def test_overlaps_polygons():
-    a = S.square(0, 0, 1)
-    assert not both(a, S.square(1.0, 0, 1))  # sharing an edge: touching
-    assert not both(a, S.square(1.0, 1.0, 1))  # sharing a corner
-    assert not both(a, S.square(1.0, 0.3, 1))  # sharing part of an edge
-    assert not both(a, S.diamond(1.0, 0.0, 1.0))  # diamond vertex on a's edge
-    assert both(a, S.square(0.5, 0, 1))  # half-shifted copy: boundaries meet only on a's edges
-    assert both(a, S.square(0, 0, 1))  # identical
-    assert both(a, S.square(0.1, 0.1, 0.2))  # contained
-    assert both(a, S.square(0.99, 0, 1))
+    a = F.square(0, 0, 1)
+    assert not both(a, F.square(1.0, 0, 1))  # sharing an edge: touching
+    assert not both(a, F.square(1.0, 1.0, 1))  # sharing a corner
+    assert not both(a, F.square(1.0, 0.3, 1))  # sharing part of an edge
+    assert not both(a, F.diamond(1.0, 0.0, 1.0))  # diamond vertex on a's edge
+    assert both(a, F.square(0.5, 0, 1))  # half-shifted copy: boundaries meet only on a's edges
+    assert both(a, F.square(0, 0, 1))  # identical
+    assert both(a, F.square(0.1, 0.1, 0.2))  # contained
+    assert both(a, F.square(0.99, 0, 1))
     # gap 0.5 side by side
-    b = S.square(1.5, 0, 1)
+    b = F.square(1.5, 0, 1)
     assert not both(a, b)
     assert both(a, b, clearance=0.51)
     assert not both(a, b, clearance=0.49)
@@ -500,21 +502,21 @@ def test_overlaps_polygons():
     assert both(h, v)
     # a triangle nested in the notch of the L, touching both faces
     L = Polygon(L_SHAPE)
-    assert not both(L, S.square(0.7, 0.65, 0.6))  # [0.4,1]x[0.35,0.95]: gap 0.05 to the L
-    assert both(L, S.square(0.7, 0.65, 0.6), clearance=0.06)
+    assert not both(L, F.square(0.7, 0.65, 0.6))  # [0.4,1]x[0.35,0.95]: gap 0.05 to the L
+    assert both(L, F.square(0.7, 0.65, 0.6), clearance=0.06)
     assert not both(L, Polygon(((0.4, 0.3), (1.0, 0.3), (0.4, 0.9))))  # sits in the notch, touching
 
 
 def test_overlaps_gap_sweep_matches_distance():
     # a diamond slid toward a triangle: the overlap switch sits at the exact gap
-    tri = S.triangle_right(0.0, 0.0, 1.0)  # apex at x = 2h/3
+    tri = F.triangle_right(0.0, 0.0, 1.0)  # apex at x = 2h/3
     apex = 2 * (math.sqrt(3) / 2) / 3
     for gap in (0.3, 0.05, 1e-3):
-        dia = S.diamond(apex + gap + 0.5, 0.0, 1.0)
+        dia = F.diamond(apex + gap + 0.5, 0.0, 1.0)
         assert not both(tri, dia, clearance=gap * (1 - 1e-6))
         assert both(tri, dia, clearance=gap * (1 + 1e-6))
-    assert not both(tri, S.diamond(apex + 0.5, 0.0, 1.0))  # vertex to vertex
-    assert both(tri, S.diamond(apex + 0.49, 0.0, 1.0))
+    assert not both(tri, F.diamond(apex + 0.5, 0.0, 1.0))  # vertex to vertex
+    assert both(tri, F.diamond(apex + 0.49, 0.0, 1.0))
 
 
 # --------------------------------------------------------------------------
@@ -532,15 +534,15 @@ def one_sentence(msg: str, name: str):
         (lambda: Circle(0, 0, -1), "radius"),
         (lambda: Circle(0, 0, float("nan")), "radius"),
         (lambda: Circle(float("inf"), 0, 1), "cx"),
-        (lambda: S.circle(0, 0, 0), "size"),
-        (lambda: S.square(0, 0, -0.1), "size"),
-        (lambda: S.triangle_left(0, 0, 0), "size"),
-        (lambda: S.triangle_right(0, 0, float("inf")), "size"),
-        (lambda: S.diamond(0, 0, "big"), "size"),
-        (lambda: S.triangle_left(0, 0, 1, anchor="middle"), "anchor"),
-        (lambda: S.wedge(0, 0, 0, 1), "half_angle_deg"),
-        (lambda: S.wedge(0, 0, 90, 1), "half_angle_deg"),
-        (lambda: S.wedge(0, 0, 20, 0), "length"),
+        (lambda: F.circle(0, 0, 0), "size"),
+        (lambda: F.square(0, 0, -0.1), "size"),
+        (lambda: F.triangle_left(0, 0, 0), "size"),
+        (lambda: F.triangle_right(0, 0, float("inf")), "size"),
+        (lambda: F.diamond(0, 0, "big"), "size"),
+        (lambda: F.triangle_left(0, 0, 1, anchor="middle"), "anchor"),
+        (lambda: F.wedge(0, 0, 0, 1), "half_angle_deg"),
+        (lambda: F.wedge(0, 0, 90, 1), "half_angle_deg"),
+        (lambda: F.wedge(0, 0, 20, 0), "length"),
         (lambda: Polygon(((0, 0), (1, 0))), "vertices"),
         (lambda: Polygon(((0, 0), (1, 0), (1, 1), (0, 1), (0, 0), (0, 0))), "vertices"),
         (lambda: Polygon(((0, 0), (1, 1), (1, 0), (0, 1))), "vertices"),  # bow tie
@@ -550,12 +552,12 @@ def one_sentence(msg: str, name: str):
         (lambda: Polygon(((0, 0), (2, 0), (2, 2), (1, 0.0), (0, 2))), "vertices"),  # vertex on edge
         (lambda: Polygon(((0, 0), (1, float("nan")), (1, 1))), "vertices"),
         (lambda: Polygon("abc"), "vertices"),
-        (lambda: S.square(0, 0, 1).surface_points(0), "spacing"),
+        (lambda: F.square(0, 0, 1).surface_points(0), "spacing"),
         (lambda: Circle(0, 0, 1).segments(-1), "spacing"),
-        (lambda: S.overlaps(Circle(0, 0, 1), Circle(3, 0, 1), -1), "clearance"),
-        (lambda: S.from_dict({"shape": "hexagon"}), "shape"),
-        (lambda: S.from_dict({"cx": 1}), "shape"),
-        (lambda: S.from_dict({"shape": "square", "cx": 0}), "square"),
+        (lambda: Q.overlaps(Circle(0, 0, 1), Circle(3, 0, 1), -1), "clearance"),
+        (lambda: F.from_dict({"shape": "hexagon"}), "shape"),
+        (lambda: F.from_dict({"cx": 1}), "shape"),
+        (lambda: F.from_dict({"shape": "square", "cx": 0}), "square"),
     ],
 )
 def test_bad_input(call, name):
@@ -574,4 +576,4 @@ def test_bad_input_messages_are_specific():
     with pytest.raises(ValueError, match="positive area"):
         Polygon(((0, 0), (1, 0), (2, 0)))
     with pytest.raises(ValueError, match=r"\(0, 90\)"):
-        S.wedge(0, 0, 95, 1)
+        F.wedge(0, 0, 95, 1)

@@ -14,7 +14,8 @@ import pytest
 
 from partmesh.cases.errors import InputError
 from partmesh.cases.registry import get
-from partmesh.cases.shapes import Circle, Polygon, wedge
+from partmesh.cases.shape_factories import wedge
+from partmesh.cases.shapes import Circle, Polygon
 from partmesh.particle import kernels
 from partmesh.particle.sph.particles import place_2d
 from partmesh.particle.sph.walls import (

@@ -14,8 +14,8 @@ import pytest
 
 import partmesh
 from partmesh.cases.errors import InputError
-from partmesh.sweeps import finished, open_sweep, plan, sweep
 from partmesh.compare.io import read
+from partmesh.sweeps import finished, open_sweep, plan, sweep
 
 
 def test_plan_is_the_product_with_each_setting_sweeping_the_methods_that_take_it():

@@ -47,7 +47,7 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.spatial import cKDTree
 
-from partmesh.cases.shapes import normal, signed_distance
+from partmesh.cases.shape_queries import normal, signed_distance
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 from partmesh.gridref.grid import bilinear_stencil, mesh
 

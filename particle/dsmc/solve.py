@@ -37,7 +37,7 @@ from partmesh.cases.errors import InputError
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import landed
 from partmesh.cases.scene import Inflow
-from partmesh.cases.shapes import square
+from partmesh.cases.shape_factories import square
 from partmesh.particle.dsmc.cells import cell_index, sort_into_cells
 from partmesh.particle.dsmc.collide import collide
 from partmesh.particle.dsmc.equilibrate import equilibrate
