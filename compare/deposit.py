@@ -375,7 +375,7 @@ def moments_to_primitive(mass, momentum, energy, volume, gamma):
     ----------
     mass : array, >= 0
         Cell mass M (kg), any shape S.
-    momentum : array of shape S (1D flow) or (d, *S), d = 1, 2 or 3
+    momentum : array of shape S (1D flow) or ``(d, *S)``, d = 1, 2 or 3
         Cell momentum components (kg m s-1); components not given have zero
         mean (their fluctuations are part of E).
     energy : array of shape S, >= 0

@@ -613,7 +613,7 @@ def positive_phase(series: xr.DataArray, baseline: float, threshold_fraction: fl
 
     The positive phase runs from the upward crossing of ``baseline`` just
     before the arrival (see :func:`arrival_time`) to the first return to
-    ``baseline`` after it, both crossings linearly interpolated; over it
+    ``baseline`` after it, both crossings linearly interpolated; over it:
 
         I₊ = ∫ (v − baseline) dt     (trapezoid rule on the samples plus the
                                       two interpolated crossings),

@@ -41,9 +41,23 @@ def _axis_label(var: xr.DataArray) -> str:
     return f"{var.attrs.get('long_name', var.name).split(',')[0]} [{var.attrs.get('units', '')}]"
 
 
+#: a profile whose total variation exceeds this many times the smoothest one's is drawn as noise
+NOISY = 2.0
+#: the cells of the running mean drawn over a noisy profile
+WINDOW = 9
+
+
+def _variation(profile: xr.DataArray) -> float:
+    """The total variation Σ|Δv| of a profile (NaN gaps left out)."""
+    return float(np.nansum(np.abs(np.diff(profile.values))))
+
+
 def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=None, time=None) -> Path:
     """1D profiles of ``field`` at ``time`` (default: the last output time)
-    for every run, with the reference drawn as a black line."""
+    for every run, with the reference drawn as a black line on top. A
+    noisy run (total variation beyond :data:`NOISY` times the smoothest
+    profile's) is drawn as a light band of its raw values under its
+    :data:`WINDOW`-cell running mean."""
     names = names or [None] * len(runs)
     t = float(runs[0].time[-1]) if time is None else time
     fig, ax = _subplots(figsize=(7, 4.2))
@@ -52,11 +66,21 @@ def profiles(runs, field: str, path, reference: xr.Dataset | None = None, names=
         # on top of the runs: a particle method's scatter would hide it
         ax.plot(reference.x, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
     values = [ds[field].sel(time=t, method="nearest") for ds in runs]
-    # the roughest profile (a particle method's noise) drawn first, so it does not hide the smooth ones;
+    # a noisy profile (a particle method's scatter) is drawn as a light band of its raw values under its
+    # windowed mean, and the roughest first, so that it hides neither the smooth runs nor the reference;
     # the legend keeps the runs' order
-    roughness = [float(np.nansum(np.abs(np.diff(v.values)))) for v in values]
-    lines = {k: ax.plot(runs[k].x, values[k], ".-", ms=3, lw=0.8, color=f"C{k}", label=_label(runs[k], names[k]))[0]
-             for k in np.argsort(roughness)[::-1]}
+    roughness = [_variation(v) for v in values]
+    smoothest = min(roughness + ([_variation(ref)] if reference is not None else []))
+    lines = {}
+    for k in np.argsort(roughness)[::-1]:
+        label = _label(runs[k], names[k])
+        if roughness[k] > NOISY * smoothest:
+            ax.plot(runs[k].x, values[k], "-", lw=0.6, alpha=0.3, color=f"C{k}")
+            mean = values[k].rolling(x=WINDOW, center=True, min_periods=WINDOW // 2 + 1).mean()
+            lines[k] = ax.plot(runs[k].x, mean, "-", lw=1.6, color=f"C{k}",
+                               label=f"{label}, {WINDOW}-cell mean (light: raw)")[0]
+        else:
+            lines[k] = ax.plot(runs[k].x, values[k], ".-", ms=3, lw=0.8, color=f"C{k}", label=label)[0]
     var = runs[0][field]
     ax.set_xlabel(_axis_label(runs[0].x))
     ax.set_ylabel(_axis_label(var))

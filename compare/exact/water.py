@@ -43,9 +43,9 @@ subclass of :class:`InitialShape`):
 * :class:`Crater`, a collapsing cavity with a rim: eta0 = D (2 (r/R)^2 - 1)
   for r <= R, 0 beyond (volume-neutral in radial form). Writing
   2 s^2 - 1 = (4/3) P2(s) - (1/3) P0(s) (Legendre polynomials, with
-  int_-1^1 P_n(s) exp(i z s) ds = 2 i^n j_n(z)) and recognising the
+  ∫ from −1 to 1 of P_n(s) exp(i z s) ds = 2 i^n j_n(z)) and recognising the
   Zernike polynomial R_2^0(s) = 2 s^2 - 1 (with
-  int_0^1 R_2^0(s) J0(z s) s ds = -J3(z)/z) gives
+  ∫ from 0 to 1 of R_2^0(s) J0(z s) s ds = -J3(z)/z) gives
   F = -(2/3) D R [4 j2(k R) + j0(k R)] (j_n spherical Bessel functions) and
   G = -D R J3(k R)/k. Defaults R = 0.6 m, D = 0.3 m (d = 1 m, gauges
   :data:`CRATER_GAUGES`).

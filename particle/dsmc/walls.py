@@ -184,7 +184,7 @@ def push_out_of_obstacles(x, v, segments, normals, start, bbox):
 
 def fluid_fraction(segments, normals, start, bbox, lo, spacing, shape, sub=8):
     """Fraction of each cell of a uniform 2D grid ((ny, nx) array) outside
-    the obstacle polygons, from ``sub``² points per cell (only the cells
+    the obstacle polygons, from ``sub`` × ``sub`` points per cell (only the cells
     that meet an obstacle's bounding box are sampled)."""
     nx, ny = shape
     fraction = np.ones((ny, nx))

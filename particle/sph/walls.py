@@ -1,6 +1,6 @@
 r"""Rigid walls and obstacles for gas SPH: the skew-gradient wall treatment
 (SPEC §3.1, "Boundaries") of Prasanna Kumar, Patnaik & Ramamurthi (2018),
-*Phys. Fluids* 30, 046105.
+Phys. Fluids 30, 046105.
 
 Particles
 ---------
