@@ -1,4 +1,4 @@
-"""Water exact solutions (partmesh.compare.exact.water): linear waves from rest against d'Alembert,
+"""Water exact solutions (partmesh.compare.exact.water, .stoker_ritter): linear waves from rest against d'Alembert,
 Poisson's formula, adaptive Fourier quadrature, their own transforms and conservation;
 the dam break against its jump conditions, Riemann invariant and conservation."""
 

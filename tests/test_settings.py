@@ -121,6 +121,6 @@ def test_text_settings_become_numbers_once():
     """``--option eta=4`` on hybrid (text) gives the number the SPH scheme
     needs; ``eta=abc`` one sentence."""
     hybrid = registered("hybrid")
-    assert partmesh.hybrid.checked(partmesh.scene("sod"), {"eta": "4", "buffer": "3"}).eta == 4.0
+    assert hybrid.checked(partmesh.scene("sod"), {"eta": "4", "buffer": "3"}).eta == 4.0
     with pytest.raises(InputError, match=r"^eta must be a finite number, got 'abc'\.$"):
-        partmesh.hybrid.checked(partmesh.scene("sod"), {"eta": "abc"})
+        hybrid.checked(partmesh.scene("sod"), {"eta": "abc"})

@@ -1,4 +1,4 @@
-"""SPH obstacle walls (partmesh.particle.sph.walls, SPEC §3.1): the virtual particles
+"""SPH obstacle walls (partmesh.particle.sph.wall_placement, wall_state, wall_reflection; SPEC §3.1): the virtual particles
 complete the fluid lattice, the skewed-kernel wall state reproduces linear
 fields, the virtual state stays within the fluid's range, the slip mirror,
 the virtual masses and the near-wall density, the
@@ -18,14 +18,9 @@ from partmesh.cases.shape_factories import wedge
 from partmesh.cases.shapes import Circle, Polygon
 from partmesh.particle import kernels
 from partmesh.particle.sph.particles import place_2d
-from partmesh.particle.sph.walls import (
-    off_surface,
-    points_within_support,
-    reflect_into_fluid,
-    virtual_state,
-    wall_state,
-    walls,
-)
+from partmesh.particle.sph.wall_placement import off_surface, walls
+from partmesh.particle.sph.wall_reflection import reflect_into_fluid
+from partmesh.particle.sph.wall_state import points_within_support, virtual_state, wall_state
 
 BOX = ((0.0, 1.0), (0.0, 1.0))
 DX = 1.0 / 40

@@ -6,8 +6,9 @@
 * :mod:`partmesh.compare.exact.sedov` — Sedov-Taylor point blast (Sedov 1959; Kamm & Timmes 2007)
 * :mod:`partmesh.compare.exact.noh` — Noh's implosion (Noh 1987)
 * :mod:`partmesh.compare.exact.water` — linear dispersive waves from an initial elevation at rest,
-  planar and radial, finite depth (Whitham 1974 §13; Prins 1958), and the shallow-water
-  dam break on a wet (Stoker 1957) or dry (Ritter 1892) bed
+  planar and radial, finite depth (Whitham 1974 §13; Prins 1958)
+* :mod:`partmesh.compare.exact.stoker_ritter` — the shallow-water dam break on a wet (Stoker 1957)
+  or dry (Ritter 1892) bed
 
 Functions that describe fields return a Dataset in the partmesh schema with
 ``method = "exact"``, so an exact answer compares like a run.
@@ -27,17 +28,14 @@ from partmesh.compare.exact.shocks import (
     reflection_coefficient,
     theta_beta_mach,
 )
+from partmesh.compare.exact.stoker_ritter import DamBreakState, dam_break, dam_break_profile, dam_break_state
 from partmesh.compare.exact.water import (
     CRATER_GAUGES,
     PRINS_GAUGES,
     Crater,
-    DamBreakState,
     Gaussian,
     InitialShape,
     Mound,
-    dam_break,
-    dam_break_profile,
-    dam_break_state,
     dispersion,
     group_velocity,
     linear_wave_fields,

@@ -20,7 +20,7 @@ import numpy as np
 
 from partmesh.particle.sph.particles import reflect_at_plane_walls
 from partmesh.particle.sph.switches import conduction_switch, cullen_dehnen
-from partmesh.particle.sph.walls import reflect_into_fluid
+from partmesh.particle.sph.wall_reflection import reflect_into_fluid
 
 #: neighbour lists are built for this multiple of the predicted support; the
 #: margin lets the support grow in the density solve and, as a Verlet skin,

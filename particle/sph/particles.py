@@ -10,7 +10,7 @@ import numpy as np
 
 from partmesh.cases.errors import InputError, Unsupported
 from partmesh.cases.scene import Inflow
-from partmesh.particle.sph.walls import off_surface
+from partmesh.particle.sph.wall_placement import off_surface
 
 
 def _side_state(scene, side: str, dx: float):
@@ -39,7 +39,7 @@ def outflow_reach(scene, dx: float, t_end: float, margin: float) -> dict[str, fl
     supersonic outflow; gas flowing in, as in Noh's problem, brings its
     free end closer at ``c + |u_n|``), plus ``margin``, capped at twice the
     domain's length along that axis. Particles beyond the extended set are
-    removed (:func:`partmesh.particle.sph.walls.in_box`)."""
+    removed (:func:`partmesh.particle.sph.wall_placement.in_box`)."""
     reach = {}
     for d, side in enumerate(scene.sides):
         if scene.boundaries[side] != "outflow":
@@ -82,7 +82,7 @@ MAX_ROW_DENSITY_RATIO = 2.0
 def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
     """Equal-mass particles over ``box`` outside the obstacles (``φ > 0``),
     points closer than ``dx/2`` to a surface moved off it to ``dx/2``
-    (:func:`partmesh.particle.sph.walls.off_surface`).
+    (:func:`partmesh.particle.sph.wall_placement.off_surface`).
 
     A uniform initial density gets the square lattice of spacing ``dx``
     (the lattice points inside the obstacles are the walls' virtual

@@ -27,7 +27,8 @@ from partmesh.particle.sph.integrator import SEARCH_SLACK
 from partmesh.particle.sph.lists import PerParticle, VerletLists
 from partmesh.particle.sph.method import has_inlet
 from partmesh.particle.sph.sampling import shepard_on_grid
-from partmesh.particle.sph.walls import in_box, virtual_state
+from partmesh.particle.sph.wall_placement import in_box
+from partmesh.particle.sph.wall_state import virtual_state
 
 #: output cells whose kernel sum Σ V W is below this fraction of full support are NaN (no fluid)
 MIN_SUPPORT = 1e-3

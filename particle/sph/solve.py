@@ -37,7 +37,8 @@ from partmesh.particle.sph.particles import (
 from partmesh.particle.sph.sampling import shepard_at_points
 from partmesh.particle.sph.scheme import Evaluation, GasSPH, Particles
 from partmesh.particle.sph.switches import conduction_switch, cullen_dehnen
-from partmesh.particle.sph.walls import virtual_state, walls
+from partmesh.particle.sph.wall_placement import walls
+from partmesh.particle.sph.wall_state import virtual_state
 
 #: particle kinds in a snapshot
 KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
