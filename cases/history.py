@@ -143,6 +143,10 @@ class RunRecord(ABC):
         self.frame_times.append(t)
         self.frame_seconds.append(_time.perf_counter() - self.t_start)
 
+    def stacked(self, name: str) -> np.ndarray:
+        """The field ``name`` of every frame kept, stacked along time."""
+        return np.stack([f[name] for f in self.frames])
+
     def saved(self) -> dict:
         """What a checkpoint keeps of the record (frames, history, steps,
         wall time so far)."""

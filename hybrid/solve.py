@@ -399,7 +399,7 @@ class _Run(RunRecord):
 
     def output(self):
         s, c = self.settings, self.coupling
-        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"hybrid: unsplit MUSCL-Hancock ({s['limiter']}, {s['riemann'].upper()}) on cells "
                   f"{c.cell[0]:g} m wide; grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d), Cullen-Dehnen "
                   f"viscosity, conduction) at spacing {s['dx']:g} m in the cells where the jump of "

@@ -66,21 +66,27 @@ def parabolic_peak(x: np.ndarray, g: np.ndarray) -> float:
     return vertex(x, g, int(np.argmax(g)))[0]
 
 
+def sorted_samples(name: str, a, what: str, samples: str, at_least: int) -> tuple[np.ndarray, np.ndarray]:
+    """(coordinate, value) of the 1D DataArray ``a``, NaN samples dropped,
+    sorted along the coordinate; a ValueError naming ``name`` where ``a``
+    is not 1D (it must be ``what``) or holds fewer than ``at_least``
+    finite ``samples``."""
+    a = dataarray(name, a)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be {what}, got dims {a.dims}.")
+    x = coordinate(a, a.dims[0])
+    v = np.asarray(a.values, dtype=float)
+    ok = np.isfinite(x) & np.isfinite(v)
+    x, v = x[ok], v[ok]
+    if x.size < at_least:
+        raise ValueError(f"{name} must hold at least {at_least} finite {samples}, got {x.size}.")
+    order = np.argsort(x, kind="stable")
+    return x[order], v[order]
+
+
 def time_series(name: str, series) -> tuple[np.ndarray, np.ndarray]:
     """(t, v) of a 1D time series DataArray, NaN samples dropped, sorted in t."""
-    s = dataarray(name, series)
-    if s.ndim != 1:
-        raise ValueError(
-            f"{name} must be a 1D time series (select one probe first), got dims {s.dims}."
-        )
-    t = coordinate(s, s.dims[0])
-    v = np.asarray(s.values, dtype=float)
-    ok = np.isfinite(t) & np.isfinite(v)
-    t, v = t[ok], v[ok]
-    if t.size < 2:
-        raise ValueError(f"{name} must hold at least 2 finite samples, got {t.size}.")
-    order = np.argsort(t, kind="stable")
-    t, v = t[order], v[order]
+    t, v = sorted_samples(name, series, "a 1D time series (select one probe first)", "samples", 2)
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{name} has repeated sample times; its time coordinate must be strictly increasing.")
     return t, v

@@ -7,21 +7,11 @@ import numpy as np
 import xarray as xr
 
 from partmesh.compare.checks import number
-from partmesh.compare.metrics.samples import coordinate, crossings, dataarray, pair, parabolic_peak
+from partmesh.compare.metrics.samples import coordinate, crossings, dataarray, pair, parabolic_peak, sorted_samples
 
 
 def _profile(name: str, profile) -> tuple[np.ndarray, np.ndarray]:
-    p = dataarray(name, profile)
-    if p.ndim != 1:
-        raise ValueError(f"{name} must be a 1D profile along x or a radius, got dims {p.dims}.")
-    x = coordinate(p, p.dims[0])
-    v = np.asarray(p.values, dtype=float)
-    ok = np.isfinite(x) & np.isfinite(v)
-    x, v = x[ok], v[ok]
-    if x.size < 3:
-        raise ValueError(f"{name} must hold at least 3 finite points, got {x.size}.")
-    order = np.argsort(x, kind="stable")
-    return x[order], v[order]
+    return sorted_samples(name, profile, "a 1D profile along x or a radius", "points", 3)
 
 
 def _shock_on_profile(x, v, method, level, direction, name="profile") -> float:

@@ -18,6 +18,20 @@ def axis_of(ndim, d):
     return ndim - 1 - d
 
 
+class SchemeAxes:
+    """What a grid scheme of spacings ``dx`` (one per direction) answers
+    about its arrays: the dimension and the array axis of each direction."""
+
+    @property
+    def dim(self) -> int:
+        return len(self.dx)
+
+    @property
+    def axes(self) -> list[int]:
+        """The array axis of each direction (x is the last axis)."""
+        return [axis_of(self.dim, d) for d in range(self.dim)]
+
+
 def _take(a, axis, start, stop, step=1):
     index = [slice(None)] * a.ndim
     index[axis] = slice(start, stop, step)

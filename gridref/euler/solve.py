@@ -163,7 +163,7 @@ class _Run(RunRecord):
         solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs,
                                                                    periodic=periodic)[0] > 0.5
         for name in scene.fields:
-            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs, periodic=periodic)
+            fields[name], how = to_output_grid(self.stacked(name), *pairs, periodic=periodic)
             if solid_out is not None:
                 fields[name][:, solid_out] = np.nan
         walls = ", conservative cut-cell immersed boundary (flux redistribution, small cells merged)"

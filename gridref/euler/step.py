@@ -32,7 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.gridref.device_loop import device_loop
-from partmesh.gridref.euler.boundaries import N_GHOST, axis_of, with_ghosts
+from partmesh.gridref.euler.boundaries import N_GHOST, SchemeAxes, with_ghosts
 from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 from partmesh.gridref.euler.state import primitive, rotated, sound_speed
@@ -73,7 +73,7 @@ def stable_dt(U, gamma, dx, cfl, fluid=None):
 
 
 @dataclass(frozen=True)
-class Scheme:
+class Scheme(SchemeAxes):
     """Settings of the MUSCL–Hancock scheme."""
 
     gamma: float
@@ -82,14 +82,6 @@ class Scheme:
     limiter: str = "mc"
     riemann: str = "hllc"
     cfl: float = 0.8
-
-    @property
-    def dim(self) -> int:
-        return len(self.dx)
-
-    @property
-    def axes(self) -> list[int]:
-        return [axis_of(self.dim, d) for d in range(self.dim)]
 
 
 def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):

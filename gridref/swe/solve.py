@@ -161,7 +161,7 @@ class _Run(RunRecord):
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
         fields, how = {}, "identity"
         for name in scene.fields:
-            fields[name], how = to_output_grid(np.stack([f[name] for f in self.frames]), *pairs)
+            fields[name], how = to_output_grid(self.stacked(name), *pairs)
         geometry = "1D-radial" if scene.geometry == "radial" else f"{scene.dim}D"
         scheme = (f"{geometry} shallow water: MUSCL-Hancock ({s['limiter']} limiter on h, eta, velocity), "
                   f"hydrostatic reconstruction (Audusse et al. 2004), HLLC flux, {s['precision']}")

@@ -61,7 +61,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from partmesh.gridref.euler.boundaries import N_GHOST, axis_of, ghost_layer
+from partmesh.gridref.euler.boundaries import N_GHOST, SchemeAxes, ghost_layer
 from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.swe.fluxes import hllc
@@ -73,7 +73,7 @@ PRECISIONS = {"float64": jnp.float64, "float32": jnp.float32}
 
 
 @dataclass(frozen=True)
-class Scheme:
+class Scheme(SchemeAxes):
     """Settings of one shallow-water run."""
 
     g: float
@@ -82,15 +82,6 @@ class Scheme:
     radial: bool = False
     limiter: str = "mc"
     cfl: float = 0.25
-
-    @property
-    def dim(self) -> int:
-        return len(self.dx)
-
-    @property
-    def axes(self) -> list[int]:
-        """The array axis of each direction (x is the last axis)."""
-        return [axis_of(self.dim, d) for d in range(self.dim)]
 
 
 def velocities(U):

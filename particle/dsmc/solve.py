@@ -458,7 +458,7 @@ class _Run(RunRecord):
         self.sums = saved["sums"]
 
     def output(self):
-        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        fields = {name: self.stacked(name) for name in self.scene.fields}
         s = self.settings
         cells = ("per-cell equilibrium redraw conserving momentum and energy" if self.gas.vhs is None else
                  f"no-time-counter VHS collisions (omega {s['omega']:g}) with Larsen-Borgnakke rotational exchange "

@@ -271,7 +271,7 @@ class _Run(RunRecord):
 
     def output(self):
         s = self.settings
-        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
                   f"(alpha_max {s['alpha_max']:g}), artificial conduction with its switch (alpha_u_max {s['alpha_u']:g}), "
                   "predictor-corrector leapfrog, mirror-particle plane walls"

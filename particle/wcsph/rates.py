@@ -50,6 +50,18 @@ from partmesh.particle.neighbours import separation
 SINGULAR = 1e-3
 
 
+@numba.njit(cache=True, inline="always")
+def _add_moments(row, volume, s00, s01, s11, jump, d0, d1):
+    """Add one neighbour's share, weighted by its ``volume``, to a particle's
+    renormalisation moments (s00, s01, s11) and density-gradient sums
+    (``jump`` times the separation ``d``)."""
+    row[0] += volume * s00
+    row[1] += volume * s01
+    row[2] += volume * s11
+    row[3] += volume * jump * d0
+    row[4] += volume * jump * d1
+
+
 @numba.njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
 def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, index, kind, n, chunks):
     """The renormalised gradient G (n, 2) of ρ^D for the first ``n``
@@ -77,19 +89,9 @@ def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, ind
                 # M += V (r_b − r_a) ⊗ ∇_a W = −V Fr d ⊗ d;  g += V (ρ_b − ρ_a) ∇_a W = V (ρ_b − ρ_a) Fr d
                 s00, s01, s11 = -Fr * d0 * d0, -Fr * d0 * d1, -Fr * d1 * d1
                 jump = (rho_dynamic[b] - rho_dynamic[a]) * Fr
-                vb = volume[b]
-                out[a, 0] += vb * s00
-                out[a, 1] += vb * s01
-                out[a, 2] += vb * s11
-                out[a, 3] += vb * jump * d0
-                out[a, 4] += vb * jump * d1
+                _add_moments(out[a], volume[b], s00, s01, s11, jump, d0, d1)
                 if b < n:
-                    va = volume[a]
-                    out[b, 0] += va * s00
-                    out[b, 1] += va * s01
-                    out[b, 2] += va * s11
-                    out[b, 3] += va * jump * d0
-                    out[b, 4] += va * jump * d1
+                    _add_moments(out[b], volume[a], s00, s01, s11, jump, d0, d1)
     G = np.zeros((n, 2))
     for a in numba.prange(n):
         M = np.zeros(5)

@@ -296,7 +296,7 @@ class _Run(RunRecord):
 
     def output(self):
         s, sph = self.settings, self.sph
-        fields = {name: np.stack([f[name] for f in self.frames]) for name in self.scene.fields}
+        fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"weakly compressible SPH in the (x, z) slice: Tait EOS (c0 = {sph.eos.c0:.4g} m/s), quintic "
                   f"Wendland kernel (h = {0.5 * s['eta']:.4g} dx), Monaghan viscosity (alpha {s['alpha']:g}), "
                   f"delta-SPH density diffusion of the departure from hydrostatic density (delta {s['delta']:g}), "
