@@ -97,17 +97,32 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     ``wall_force``, ``wall_impulse``) of every run, overlaid, with the
     reference's as a black line where it has that series; ``scale``
     multiplies the time axis (e.g. 1e3 for ms, named by ``unit``);
-    ``title`` replaces the scene's name in the title."""
+    ``title`` replaces the scene's name in the title. A noisy series (total
+    variation beyond :data:`NOISY` times the smoothest run's) is drawn as a
+    light band under its running mean over a sixtieth of the record (at
+    least :data:`WINDOW` samples)."""
     names = names or [None] * len(runs)
     fig, ax = _subplots(figsize=(7, 4.2))
     if reference is not None and var in reference:
         ref = reference[var].sel(probe=probe) if probe is not None else reference[var]
         ax.plot(reference.t_probe * scale, ref, "k-", lw=1.4, zorder=10, label=_reference_name(reference))
-    for k, (ds, name) in enumerate(zip(runs, names)):
-        y = ds[var].sel(probe=probe) if probe is not None else ds[var]
+    handles = ax.get_lines()[:1]
+    values = [ds[var].sel(probe=probe) if probe is not None else ds[var] for ds in runs]
+    roughness = [_variation(y) for y in values]
+    smoothest = min(roughness)
+    lines = {}
+    # as in :func:`profiles`: a noisy series (DSMC's wall force) is a light band under its running mean,
+    # the roughest drawn first; the legend keeps the runs' order
+    for k in np.argsort(roughness)[::-1]:
+        ds, y, label = runs[k], values[k], _label(runs[k], names[k])
         # beyond the ten colours of the cycle, the same colours dashed, then dotted
-        ax.plot(ds.t_probe * scale, y, lw=1.0, color=f"C{k % 10}", ls=("-", "--", ":", "-.")[k // 10 % 4],
-                label=_label(ds, name))
+        style = dict(color=f"C{k % 10}", ls=("-", "--", ":", "-.")[k // 10 % 4])
+        if roughness[k] > NOISY * smoothest:
+            window = max(WINDOW, y.size // 60)
+            ax.plot(ds.t_probe * scale, y, lw=0.5, alpha=0.3, **style)
+            y = y.rolling(t_probe=window, center=True, min_periods=window // 2 + 1).mean()
+            label = f"{label}, {window}-sample mean (light: raw)"
+        lines[k] = ax.plot(ds.t_probe * scale, y, lw=1.0, label=label, **style)[0]
     first = runs[0][var]
     ax.set_xlabel(f"time [{unit or 's'}]")
     ax.set_ylabel(_axis_label(first))
@@ -116,9 +131,10 @@ def series(runs, var: str, path, probe: str | None = None, names=None, scale: fl
     ax.set_title(f"{title or runs[0].attrs['case']}: {what}{where}", fontsize=10)
     if len(runs) > 6:  # (beside the axes: inside, a long legend hides the lines)
         fig.set_size_inches(10.5, 4.2)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        ax.legend(handles=handles + [lines[k] for k in range(len(runs))], fontsize=7, loc="upper left",
+                  bbox_to_anchor=(1.01, 1.0))
     else:
-        ax.legend(fontsize=8)
+        ax.legend(handles=handles + [lines[k] for k in range(len(runs))], fontsize=8)
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
