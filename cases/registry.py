@@ -29,18 +29,24 @@ from partmesh.compare.schema import METHOD_GROUP
 SCENE_GROUP = "partmesh.scenes"
 
 
-def _entry_points() -> dict:
-    return {ep.name: ep for ep in entry_points(group=SCENE_GROUP)}
+def _entry_points(group: str) -> dict:
+    """name -> entry point of the entry-point ``group``."""
+    return {ep.name: ep for ep in entry_points(group=group)}
+
+
+def _parameters(build: Callable) -> dict:
+    """The keyword defaults of a scene builder: the scene's parameters."""
+    return {k: p.default for k, p in inspect.signature(build).parameters.items()}
 
 
 def names() -> list[str]:
     """Names of all registered scenes."""
-    return sorted(_entry_points())
+    return sorted(_entry_points(SCENE_GROUP))
 
 
 def builder(name: str) -> Callable:
     """The builder function of scene ``name``."""
-    found = _entry_points()
+    found = _entry_points(SCENE_GROUP)
     if name not in found:
         raise InputError(f"unknown case {name!r}; known cases: {', '.join(sorted(found))}.")
     return found[name].load()
@@ -48,7 +54,7 @@ def builder(name: str) -> Callable:
 
 def defaults(name: str) -> dict:
     """The parameters of scene ``name`` with their default values."""
-    return {k: p.default for k, p in inspect.signature(builder(name)).parameters.items()}
+    return _parameters(builder(name))
 
 
 def describe(name: str) -> str:
@@ -78,7 +84,7 @@ def _coerce(name: str, key: str, value, default):
 def get(name: str, **overrides):
     """The scene ``name`` with ``overrides`` applied (every one validated)."""
     build = builder(name)
-    params = {k: p.default for k, p in inspect.signature(build).parameters.items()}
+    params = _parameters(build)
     unknown = sorted(set(overrides) - set(params))
     if unknown:
         raise InputError(f"case {name} has no parameter {unknown[0]!r}; parameters: {', '.join(params)}.")
@@ -88,7 +94,7 @@ def get(name: str, **overrides):
 
 def methods() -> dict:
     """Registered methods: name -> entry point."""
-    return {ep.name: ep for ep in entry_points(group=METHOD_GROUP)}
+    return _entry_points(METHOD_GROUP)
 
 
 def method(name: str) -> Method:
