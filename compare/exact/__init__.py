@@ -9,11 +9,14 @@
   planar and radial, finite depth (Whitham 1974 §13; Prins 1958)
 * :mod:`partmesh.compare.exact.stoker_ritter` — the shallow-water dam break on a wet (Stoker 1957)
   or dry (Ritter 1892) bed
+* :mod:`partmesh.compare.exact.kingery_bulmash` — the blast parameters of a hemispherical TNT surface
+  burst against scaled distance (Kingery & Bulmash 1984, Swisdak's 1994 fits): ``kingery_bulmash.blast_parameters``
 
 Functions that describe fields return a Dataset in the partmesh schema with
 ``method = "exact"``, so an exact answer compares like a run.
 """
 
+from partmesh.compare.exact import kingery_bulmash
 from partmesh.compare.exact.noh import noh, noh_profile
 from partmesh.compare.exact.riemann import riemann, sample, star_state
 from partmesh.compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
@@ -60,6 +63,7 @@ __all__ = [
     "driver_pressure",
     "friedlander",
     "group_velocity",
+    "kingery_bulmash",
     "linear_wave_fields",
     "linear_waves",
     "max_deflection",
