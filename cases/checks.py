@@ -18,7 +18,8 @@ from partmesh.compare.checks import (
     positive,
 )
 
-__all__ = ["InputError", "check_scene", "choice", "flag", "in_range", "integer", "non_negative", "number", "positive"]
+__all__ = ["GAS_GEOMETRIES", "InputError", "check_geometry", "check_scene", "choice", "flag", "in_range", "integer",
+           "non_negative", "number", "positive"]
 
 
 def check_scene(scene) -> None:
@@ -40,10 +41,12 @@ def check_scene(scene) -> None:
         if (scene.boundaries[lo_side] == "periodic") != (scene.boundaries[hi_side] == "periodic"):
             raise InputError(f"scene {scene.name}: boundaries {lo_side} and {hi_side} must both be periodic or neither.")
     times = np.asarray(scene.output.times, float)
-    if times.size == 0 or np.any(np.diff(times) <= 0) or times[0] < 0 or times[-1] > scene.t_end * (1 + 1e-12):
-        raise InputError(
-            f"scene {scene.name}: output times must increase strictly within [0, t_end={scene.t_end:g}], got {list(times)}."
-        )
+    t0 = non_negative("t_start", scene.t_start)
+    if not scene.t_end > t0:
+        raise InputError(f"scene {scene.name}: t_end must be later than t_start = {t0:g} s, got {scene.t_end:g} s.")
+    if times.size == 0 or np.any(np.diff(times) <= 0) or times[0] < t0 or times[-1] > scene.t_end * (1 + 1e-12):
+        raise InputError(f"scene {scene.name}: output times must increase strictly within [t_start={t0:g}, "
+                         f"t_end={scene.t_end:g}], got {list(times)}.")
     for probe in scene.probes:
         inside = all(lo <= c <= hi for c, (lo, hi) in zip((probe.x, probe.y), scene.domain))
         if not inside:
@@ -58,6 +61,39 @@ def check_scene(scene) -> None:
             if overlaps(a, scene.obstacles[j]):
                 raise InputError(f"scene {scene.name}: obstacles {i} ({a.to_dict()['shape']}) and {j} "
                                  f"({scene.obstacles[j].to_dict()['shape']}) overlap; move them apart.")
+
+
+#: the geometries of a gas scene (:class:`~partmesh.cases.scene.Scene`)
+GAS_GEOMETRIES = ("planar", "axisymmetric", "spherical")
+
+
+def check_geometry(scene) -> None:
+    """A geometry of revolution starts at its axis (or centre): the domain
+    along x (r) begins at 0 with a reflecting ``x_lo``, a sphere is 1D,
+    and no probe or obstacle lies at r < 0."""
+    choice("geometry", scene.geometry, GAS_GEOMETRIES)
+    if scene.geometry == "planar":
+        return
+    if scene.geometry == "spherical" and scene.dim != 1:
+        raise InputError(f"scene {scene.name}: a spherical scene is 1D (x the distance from the centre); "
+                         "in 2D a sphere is an axisymmetric scene.")
+    lo = scene.domain[0][0]
+    if lo != 0.0:
+        raise InputError(f"scene {scene.name}: an {scene.geometry} scene begins at its axis, so its domain along x "
+                         f"(the radius r) must start at 0, got {lo:g} m.")
+    if scene.boundaries.get("x_lo") != "reflect":
+        raise InputError(f"scene {scene.name}: the axis of an {scene.geometry} scene (side x_lo, r = 0) is a "
+                         f"symmetry boundary and must be 'reflect', got {scene.boundaries.get('x_lo')!r}.")
+    for probe in scene.probes:
+        if probe.x < 0.0:
+            raise InputError(f"probe {probe.name!r} of scene {scene.name} lies at r = {probe.x:g} m; in an "
+                             f"{scene.geometry} scene the radius r (x) must be >= 0.")
+    for i, shape in enumerate(scene.obstacles):
+        xmin = shape.bounds()[0]
+        if xmin < 0.0:
+            raise InputError(f"scene {scene.name}: obstacle {i} ({shape.to_dict()['shape']}) crosses the axis "
+                             f"(it reaches r = {xmin:g} m); in an axisymmetric scene a body is its cross-section "
+                             "at r >= 0, a body on the axis the half that touches x = 0.")
 
 
 def _same_shape(a, b, tol: float) -> bool:

@@ -27,20 +27,23 @@ from partmesh.compare.schema import result, source_revision
 class History:
     """The records of one run, one per step or per probe sample.
 
-    A record of ``[t0, t1]`` holds the probe values at ``t1`` and the
+    The history begins at ``t0`` (the scene's ``t_start``) with the probe
+    values ``probes0``. A record of ``[t0, t1]`` holds the probe values at ``t1`` and the
     time-centred force on every side over the interval (per metre depth in
     2D, per square metre in 1D); the impulse is accumulated as Σ force·dt.
     """
 
     probes0: np.ndarray
     n_sides: int
-    t: list = field(default_factory=lambda: [0.0])
+    t0: float = 0.0
+    t: list = field(default_factory=list)
     probes: list = field(default_factory=list)
     force_t: list = field(default_factory=list)
     forces: list = field(default_factory=list)
     impulses: list = field(default_factory=list)
 
     def __post_init__(self):
+        self.t = [self.t0]
         self.probes = [np.asarray(self.probes0, float)]
         self.impulses = [np.zeros(self.n_sides)]
 
@@ -76,7 +79,7 @@ class History:
                 lo, hi = scene.domain[1 - side // 2]
                 scale, ambient = 1.0, scene.wall.p0 * (hi - lo)
             force = (np.stack(self.forces)[:, side] - ambient) * scale
-            impulse = (np.stack(self.impulses)[:, side] - ambient * np.asarray(self.t)) * scale
+            impulse = (np.stack(self.impulses)[:, side] - ambient * (np.asarray(self.t) - self.t0)) * scale
             out["wall_force"] = np.interp(t_probe, self.force_t, force)
             out["wall_impulse"] = np.interp(t_probe, self.t, impulse)
         return out
@@ -174,9 +177,11 @@ class RunRecord(ABC):
         wall = _time.perf_counter() - self.t_start
         scene, out = self.scene, self.scene.output
         fields, solid, scheme, n_elements, attrs = self.output()
-        t_probe = out.probe_times(self.frame_times[-1])
+        t_probe = out.probe_times(self.frame_times[-1], scene.t_start)
         series = self.history.series(scene, t_probe)
-        attrs = {**attrs, **self.drift(), "status": status}
+        attrs = {**attrs, **self.drift(), "status": status, "geometry": scene.geometry}
+        if scene.t_start:  # a run that starts from a state computed before says from what
+            attrs.update(t_start=scene.t_start, started_from=scene.parameters.get("started_from", ""))
         if failure:
             attrs["failure"] = failure
         return result(

@@ -51,8 +51,9 @@ class Method:
     """One method: ``name``; the ``medium`` of the scenes it runs ("gas" or
     "water"); whether it ``takes_seed`` (a stochastic method, which
     ensembles can average); its ``settings`` class; ``memory(scene,
-    settings) -> Memory``; and ``solver``, the ``"module:function"`` of its
-    ``solve(scene, settings)``."""
+    settings) -> Memory``; ``solver``, the ``"module:function"`` of its
+    ``solve(scene, settings)``; and the ``geometries`` of the gas scenes it
+    runs (:data:`partmesh.cases.checks.GAS_GEOMETRIES`)."""
 
     name: str
     medium: str
@@ -60,6 +61,16 @@ class Method:
     memory: Callable
     solver: str
     takes_seed: bool = False
+    geometries: tuple[str, ...] = ("planar",)
+
+    def refusal(self, scene) -> str | None:
+        """Why this method cannot run ``scene`` (one sentence), or None."""
+        if scene.medium != self.medium:
+            return f"method {self.name} runs {self.medium} scenes, and {scene.name} is a {scene.medium} scene."
+        if scene.medium == "gas" and scene.geometry not in self.geometries:
+            return (f"method {self.name} runs {' and '.join(self.geometries)} scenes, and {scene.name} is "
+                    f"{scene.geometry}.")
+        return None
 
     def checked(self, scene, given: dict) -> Settings:
         """The settings ``given`` (values or command-line text), checked for a

@@ -75,8 +75,8 @@ class OutputGrid:
     def y(self) -> np.ndarray | None:
         return self.centres(1) if len(self.shape) == 2 else None
 
-    def probe_times(self, t_end: float) -> np.ndarray:
-        """Sampling times 0, dt_probe, ... up to and including ``t_end``."""
-        n = int(np.floor(t_end / self.dt_probe + 1e-9))
-        t = np.arange(n + 1) * self.dt_probe
+    def probe_times(self, t_end: float, t_start: float = 0.0) -> np.ndarray:
+        """Sampling times t_start, t_start + dt_probe, ... up to and including ``t_end``."""
+        n = int(np.floor((t_end - t_start) / self.dt_probe + 1e-9))
+        t = t_start + np.arange(n + 1) * self.dt_probe
         return t if np.isclose(t[-1], t_end) else np.append(t, t_end)

@@ -13,19 +13,23 @@ from typing import Callable
 
 import numpy as np
 
-from partmesh.cases.checks import check_scene, choice, in_range, positive
+from partmesh.cases.checks import check_geometry, check_scene, choice, in_range, positive
 from partmesh.cases.errors import InputError
 from partmesh.cases.parts import Inflow, OutputGrid, Probe, Wall
 
 SIDES = ("x_lo", "x_hi", "y_lo", "y_hi")
 BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
 
-__all__ = ["BOUNDARY_KINDS", "Inflow", "OutputGrid", "Probe", "SIDES", "Scene", "Wall", "WaterScene"]
+__all__ = ["BOUNDARY_KINDS", "Inflow", "OutputGrid", "Precursor", "Probe", "SIDES", "Scene", "Wall", "WaterScene"]
 
 
 class _Scenes:
     """What every scene, gas or water, answers: its sides, its exact
     solution and its parameters."""
+
+    #: the time the initial state holds, and the run that computes it (see :class:`Scene`)
+    t_start = 0.0
+    precursor = None
     @property
     def sides(self) -> tuple[str, ...]:
         return SIDES[: 2 * self.dim]
@@ -48,6 +52,19 @@ class _Scenes:
 
 
 @dataclass(frozen=True)
+class Precursor:
+    """The run that makes a scene's starting state: ``scene`` run with
+    ``method`` and ``settings`` (a dict) to its ``t_end``; ``start(result)``
+    turns that run's result into the :class:`Scene` to run (its initial
+    state the result's last frame, remapped, and ``t_start`` its time)."""
+
+    scene: "Scene"
+    method: str
+    settings: dict
+    start: Callable
+
+
+@dataclass(frozen=True)
 class Scene(_Scenes):
     """One scene of the toolkit (see SPEC §4).
 
@@ -62,6 +79,16 @@ class Scene(_Scenes):
     to every result. ``tiles`` > 1 says the domain is one period across y of
     a channel that many periods wide, computed once and tiled onto the
     channel by :func:`partmesh.dispatch.run` (:func:`partmesh.cases.tiling.tiled`).
+    ``geometry`` is ``"planar"``, ``"axisymmetric"`` (x is the distance r
+    from a symmetry axis at x = 0, the ``x_lo`` side, which reflects; in 2D y
+    is z along the axis, in 1D the scene is a cylinder's radius) or
+    ``"spherical"`` (1D: x is the distance from the centre at x = 0).
+    ``t_start`` is the time the initial state holds (0 unless the scene
+    starts from a state computed before, see ``precursor``): a run begins
+    there, and its output and probe times are absolute.
+    ``precursor``, where given, is the run that computes the scene's
+    starting state (:class:`Precursor`): :func:`partmesh.dispatch.run` runs
+    it first and then the scene its result makes.
     """
     name: str
     parameters: dict
@@ -81,6 +108,9 @@ class Scene(_Scenes):
     measure: Callable | None = None
     description: str = ""
     tiles: int = 1
+    geometry: str = "planar"
+    t_start: float = 0.0
+    precursor: Precursor | None = None
 
     #: what the scene holds; a method runs the scenes of its medium only
     medium = "gas"
@@ -89,6 +119,7 @@ class Scene(_Scenes):
     boundary_kinds = BOUNDARY_KINDS
 
     def __post_init__(self):
+        check_geometry(self)
         check_scene(self)
         in_range("gamma", self.gamma, 1.0, 5.0, lo_open=True)
 

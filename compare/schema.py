@@ -10,8 +10,10 @@ A result is one :class:`xarray.Dataset` with
   ``solid`` on ``([y,] x)``;
 * series on ``(t_probe, probe)``: ``p_probe``, ``eta_probe``; on ``(t_probe,)``:
   ``wall_force``, ``wall_impulse``;
-* the attributes of :data:`REQUIRED_ATTRS`, and ``source_revision`` (the git
-  commit of the code) when run from a checkout.
+* the attributes of :data:`REQUIRED_ATTRS`, ``geometry`` (``planar``;
+  ``axisymmetric``: x is the radius r from the axis and y is z, and forces
+  are over whole rings; ``spherical``; ``radial`` for radial water), and
+  ``source_revision`` (the git commit of the code) when run from a checkout.
 
 :func:`result` builds such a Dataset with units and long names filled in;
 :func:`validate` accepts one or raises :class:`SchemaError` naming what is
@@ -176,7 +178,7 @@ def result(
         parameters=json.dumps(parameters or {}, sort_keys=True, default=float),
         partmesh_version=version(), Conventions="CF-1.10",
         created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        status="ok",
+        status="ok", geometry="planar",
     )
     if source_revision():
         ds.attrs["source_revision"] = source_revision()

@@ -328,8 +328,9 @@ def solve(scene, settings: HybridSettings):
     probe_points = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim]
     probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
     run = _Run(scene, coupling, settings.record(), compile_seconds,
-               History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim))
-    t, dt_cfl = 0.0, float(stepper.initial_dt(U))
+               History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim,
+                       scene.t_start))
+    t, dt_cfl = scene.t_start, float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:

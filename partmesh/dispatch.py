@@ -27,14 +27,20 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
     method-specific ones). ``ensembles`` > 1 runs that many seeds of a
     stochastic method on Dask (the scheduler at ``scheduler``, or a
     LocalCluster of ``workers`` processes) and returns their average
-    (:func:`partmesh.ensembles.run_ensemble`). A run that fails raises
+    (:func:`partmesh.ensembles.run_ensemble`). A scene with a ``precursor``
+    (:class:`~partmesh.cases.scene.Precursor`) runs it first and starts from
+    its result. A run that fails raises
     :class:`~partmesh.cases.errors.SolverFailed` carrying the partial result.
     """
     if isinstance(scene, str):
         scene = registry.get(scene)
+    if scene.precursor is not None:  # the run that computes the scene's starting state comes first
+        pre = scene.precursor
+        scene = pre.start(run(pre.scene, pre.method, progress=settings.get("progress", True), **pre.settings))
     chosen = registry.method(method)
-    if scene.medium != chosen.medium:
-        raise Unsupported(f"method {method} runs {chosen.medium} scenes, and {scene.name} is a {scene.medium} scene.")
+    refusal = chosen.refusal(scene)
+    if refusal:
+        raise Unsupported(refusal)
     if ensembles != 1:
         settings.pop("progress", None)  # (workers show none)
         ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)

@@ -218,11 +218,14 @@ def sedov_profile(r, t, E, rho0, gamma: float = 1.4, geometry: str = "cylindrica
     return rho, u, p
 
 
-def sedov(E, rho0, p0, x, y, times, gamma: float = 1.4, centre=(0.0, 0.0), case: str = "sedov") -> xr.Dataset:
-    """The cylindrical Sedov-Taylor blast on a 2D grid, as a partmesh result Dataset.
+def sedov(E, rho0, p0, x, y, times, gamma: float = 1.4, centre=(0.0, 0.0), case: str = "sedov",
+          geometry: str = "cylindrical") -> xr.Dataset:
+    """The Sedov-Taylor blast on a 2D grid, as a partmesh result Dataset.
 
-    Fields on (time, y, x) from :func:`sedov_profile` with geometry
-    "cylindrical" (E per unit length, Kamm & Timmes 2007) about ``centre``:
+    Fields on (time, y, x) from :func:`sedov_profile` with ``geometry``
+    "cylindrical" (a planar grid, E per unit length, Kamm & Timmes 2007) or
+    "spherical" (an axisymmetric grid, x the radius from the axis and y
+    along it, E the whole sphere's) about ``centre``:
     u, v = u_r (x - xc)/r, u_r (y - yc)/r; p = max(p_sedov, p0), so the gas
     ahead of the shock is at rho0, p0 and rest (the blast solution itself
     assumes p0 << p behind the shock); e = p/((gamma-1) rho), which is
@@ -230,7 +233,10 @@ def sedov(E, rho0, p0, x, y, times, gamma: float = 1.4, centre=(0.0, 0.0), case:
     ``times`` > 0 (the point blast is singular at t = 0).
     """
     E, rho0, p0 = positive("E", E), positive("rho0", rho0), positive("p0", p0)
-    gamma = _check_gamma(gamma, 2)
+    if geometry not in ("cylindrical", "spherical"):
+        raise ValueError(f"geometry must be 'cylindrical' or 'spherical' on a 2D grid, got {geometry!r}.")
+    j = geometry_index(geometry)
+    gamma = _check_gamma(gamma, j)
     x, y = axis("x", x), axis("y", y)
     times = output_times(times, allow_zero=False)
     xc, yc = (float(c) for c in centre)
@@ -238,14 +244,15 @@ def sedov(E, rho0, p0, x, y, times, gamma: float = 1.4, centre=(0.0, 0.0), case:
     r = np.hypot(dx_c, dy_c)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos, sin = np.where(r > 0.0, dx_c / r, 0.0), np.where(r > 0.0, dy_c / r, 0.0)
-    rows = [sedov_profile(r, t, E, rho0, gamma, "cylindrical") for t in times]
+    rows = [sedov_profile(r, t, E, rho0, gamma, geometry) for t in times]
     rho = np.stack([row[0] for row in rows])
     u_r = np.stack([row[1] for row in rows])
     p = np.maximum(np.stack([row[2] for row in rows]), p0)
     return result(
-        case=case, method="exact", scheme="Sedov-Taylor blast, cylindrical (Kamm & Timmes 2007 closed form)",
+        case=case, method="exact", scheme=f"Sedov-Taylor blast, {geometry} (Kamm & Timmes 2007 closed form)",
         x=x, y=y, times=times, dx=float(np.mean(np.diff(x))),
         fields={"rho": rho, "u": u_r * cos, "v": u_r * sin, "p": p, "e": internal_energy(p, rho, gamma)},
         parameters={"E": E, "rho0": rho0, "p0": p0, "gamma": gamma, "centre": [xc, yc],
-                    "geometry": "cylindrical", "alpha": _alpha(gamma, 2)},
+                    "geometry": geometry, "alpha": _alpha(gamma, j)},
+        geometry="axisymmetric" if j == 3 else "planar",
     )

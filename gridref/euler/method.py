@@ -32,4 +32,5 @@ def memory(scene, settings: FVSettings) -> Memory:
     return Memory(elements_in(scene.domain, settings.dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
 
 
-METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve")
+METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve",
+                geometries=("planar", "axisymmetric", "spherical"))

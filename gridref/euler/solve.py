@@ -9,7 +9,7 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_initial_state, check_obstacles
-from partmesh.cases.errors import InputError
+from partmesh.cases.errors import InputError, Unsupported
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
 from partmesh.cases.scene import Inflow
@@ -20,6 +20,7 @@ from partmesh.gridref.euler.state import conservative, primitive
 from partmesh.gridref.euler.step import FLOOR, Scheme, Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
 from partmesh.gridref.jax_setup import configure_jax
+from partmesh.gridref.revolution import GEOMETRIES, revolved
 
 
 def _primitive_state(scene, rho, u, v, p):
@@ -73,7 +74,8 @@ def initial_state(scene, grid, fluid=None):
 def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
     """The MUSCL–Hancock scheme of ``scene`` on ``grid`` (its boundary kinds per side)."""
     kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
-    return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl)
+    return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl,
+                  radial=GEOMETRIES[scene.geometry])
 
 
 def solve(scene, settings: FVSettings):
@@ -101,8 +103,8 @@ def solve(scene, settings: FVSettings):
     stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure, n_probes=len(probe_w),
                       inflow=lambda t: inflow_states(scene, t))
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=stepper.compile(U),
-               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim))
-    t, state = 0.0, stepper.start(U)
+               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start))
+    t, state = scene.t_start, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
@@ -128,6 +130,9 @@ def _immersed(scene, grid, dx):
     check_obstacles(scene, dx)
     if not scene.obstacles:
         return None
+    if scene.geometry != "planar":
+        raise Unsupported(f"fv runs obstacles in planar scenes only, and {scene.name} is {scene.geometry} with "
+                          f"{len(scene.obstacles)} obstacle(s).")
     return immersed_boundary(grid, scene.obstacles, scene.periodic)
 
 
@@ -149,10 +154,12 @@ class _Run(RunRecord):
         return _fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
 
     def totals(self, state) -> dict:
-        """Mass and energy in the gas (the open part of every cell)."""
+        """Mass and energy in the gas (the open part of every cell; of
+        revolution, the whole revolved body)."""
         U, _ = state
         cell = float(np.prod(self.grid.step))
-        return {name: float(np.sum(self.volume * np.asarray(U[k]))) * cell for name, k in (("mass", 0), ("energy", -1))}
+        weight = self.volume * revolved(U[0].shape, self.grid.step[0], GEOMETRIES[self.scene.geometry])
+        return {name: float(np.sum(weight * np.asarray(U[i]))) * cell for name, i in (("mass", 0), ("energy", -1))}
 
     def output(self):
         scene, out, s = self.scene, self.scene.output, self.settings

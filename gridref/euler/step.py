@@ -37,6 +37,7 @@ from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 from partmesh.gridref.euler.state import primitive, rotated, sound_speed
 from partmesh.gridref.grid import cropped
+from partmesh.gridref.revolution import REVOLUTION, cell_volumes, face_areas, hoop, revolved
 from partmesh.gridref.staging import staged
 
 
@@ -58,13 +59,22 @@ def primitive_change(W, dW, d, gamma):
     return (un * dW[0] + rho * dun, *dvel, un * dp + gamma * p * dun)
 
 
-def stable_dt(U, gamma, dx, cfl, fluid=None):
+def stable_dt(U, gamma, dx, cfl, fluid=None, radial=0):
     """CFL time step ``Δt = C / max_cells Σ_d (|u_d| + c)/Δx_d``; NaN if the
     fluid holds NaN, negative density or negative pressure (the caller
-    reports where)."""
+    reports where). In a geometry of revolution (``radial`` = k) the radial
+    rate of a cell is raised by the ratio of its faces' mean area to its
+    volume, ``max(1, (a_{i−1/2} + a_{i+1/2}) / (2 v_i))``
+    (:mod:`partmesh.gridref.revolution`): 1.5 at a sphere's centre, where a
+    step of C = 0.8 is unstable, 1 in the first cell of a cylinder."""
     W = primitive(U, gamma)
     c = sound_speed(W, gamma)
     rate = sum((jnp.abs(W[1 + d]) + c) * (1.0 / dx[d]) for d in range(len(dx)))
+    if radial:
+        n = W[0].shape[-1]
+        a = face_areas(0, n + 1, dx[0], radial)
+        crowding = np.maximum(1.0, 0.5 * (a[:-1] + a[1:]) / cell_volumes(0, n, dx[0], radial))
+        rate = rate + (jnp.abs(W[1]) + c) * ((crowding - 1.0) / dx[0])
     bad = ~(W[0] > 0.0) | ~(W[-1] > 0.0) | ~jnp.isfinite(rate)
     if fluid is not None:
         rate = jnp.where(fluid, rate, 0.0)
@@ -82,6 +92,9 @@ class Scheme(SchemeAxes):
     limiter: str = "mc"
     riemann: str = "hllc"
     cfl: float = 0.8
+    #: the power k of r in the face areas (:mod:`partmesh.gridref.revolution`): 0 planar, 1 axisymmetric (x is
+    #: the distance r from the axis at x = 0, y is z), 2 spherical (1D, x is the distance from the centre)
+    radial: int = 0
 
 
 def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):
@@ -112,7 +125,14 @@ def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
     gamma, dx = scheme.gamma, scheme.dx
     Wc = tuple(cropped(a, scheme.axes, N_GHOST - 1) for a in Wg)
     changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
-    Wh = tuple(w - (0.5 * dt) * sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k, w in enumerate(Wc))
+    rates = [sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k in range(len(Wc))]
+    if scheme.radial:  # the geometric terms −g ρ u_r and −g γ p u_r (cells −1 … n of the interior)
+        g = hoop(-1, Wc[0].shape[-1], dx[0], scheme.radial)
+        if scheme.kinds[1] == "reflect":  # the ghost beyond the outer wall predicts its mirror's image
+            g[-1] = -g[-2]
+        rates[0] = rates[0] + g * Wc[0] * Wc[1]
+        rates[-1] = rates[-1] + g * gamma * Wc[-1] * Wc[1]
+    Wh = tuple(w - (0.5 * dt) * rate for w, rate in zip(Wc, rates))
     ok = True if allowed is None else allowed
     for d in range(scheme.dim):
         for sign in (-0.5, 0.5):
@@ -185,27 +205,48 @@ def flux_divergence(fluxes, scheme: Scheme, apertures=None):
     """``(D, side_forces)``: the flux divergence ``Σ_d (α F_{d,i+1/2} −
     α F_{d,i−1/2})/Δx_d`` of every cell from the face fluxes of every
     direction, with the faces' open fractions ``apertures`` (one array per
-    direction; all open if None).
+    direction; all open if None); in a geometry of revolution the radial
+    faces weighted by their area and the difference divided by the cell's
+    volume (:mod:`partmesh.gridref.revolution`).
 
     ``side_forces[i]`` is the normal momentum flux integrated over side
-    ``i`` (per metre depth in 2D, per square metre in 1D): the time-centred
-    force the gas exerts on that side.
+    ``i`` (planar: per metre depth in 2D, per square metre in 1D; of
+    revolution: over the whole revolved side): the time-centred force the
+    gas exerts on that side.
     """
-    axes, dx, dim = scheme.axes, scheme.dx, scheme.dim
+    axes, dx, dim, k = scheme.axes, scheme.dx, scheme.dim, scheme.radial
     divergence = [0.0] * len(fluxes[0])
     forces = []
     for d, F in enumerate(fluxes):
         if apertures is not None:
             F = tuple(f * apertures[d] for f in F)
+        n = F[0].shape[axes[d]]
         inv_dx = 1.0 / dx[d]
+        if k and d == 0:
+            area = face_areas(0, n, dx[0], k)
+            inv_dx = inv_dx / cell_volumes(0, n - 1, dx[0], k)
+            F = tuple(f * area for f in F)
         divergence = [acc + (_shifted(f, axes[d], False) - _shifted(f, axes[d], True)) * inv_dx
                       for acc, f in zip(divergence, F)]
-        face_area = 1.0 if dim == 1 else dx[1 - d]
         momentum = F[1 + d]
-        n = momentum.shape[axes[d]]
-        forces += [jnp.sum(jnp.take(momentum, 0, axis=axes[d])) * face_area,
-                   jnp.sum(jnp.take(momentum, n - 1, axis=axes[d])) * face_area]
+        area = 1.0 if dim == 1 else dx[1 - d]
+        if k:  # the whole turn, and along the radius each face's mean radius (a radial side's is in F already)
+            area = REVOLUTION[k] * area * (1.0 if d == 0 else cell_volumes(0, momentum.shape[-1], dx[0], k))
+            forces += [jnp.sum(jnp.take(momentum, i, axis=axes[d]) * area) for i in (0, n - 1)]
+        else:
+            forces += [jnp.sum(jnp.take(momentum, i, axis=axes[d])) * area for i in (0, n - 1)]
     return divergence, jnp.stack(forces)
+
+
+def hoop_source(Wh, scheme: Scheme):
+    """The pressure's source ``p g`` of the radial momentum in a geometry of
+    revolution (zero arrays on the other components; ``Wh`` the half-step
+    state on the interior plus one ghost layer), which D carries with a
+    minus sign (:mod:`partmesh.gridref.revolution`)."""
+    p = cropped(Wh[-1], scheme.axes)
+    source = [jnp.zeros_like(p) for _ in Wh]
+    source[1] = p * hoop(0, p.shape[-1], scheme.dx[0], scheme.radial)
+    return source
 
 
 def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
@@ -216,6 +257,8 @@ def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
     (:mod:`partmesh.gridref.euler.immersed`)."""
     if immersed is None:
         divergence, forces = flux_divergence(fluxes, scheme)
+        if scheme.radial:
+            divergence = [div - s for div, s in zip(divergence, hoop_source(Wh, scheme))]
         return tuple(u - dt * div for u, div in zip(U, divergence)), forces
     divergence, forces = cut_cell_divergence(fluxes, Wh, scheme, immersed)
     return immersed.advanced(U, divergence, dt), forces
@@ -259,18 +302,21 @@ class Stepper:
                  n_probes: int = 0, inflow: Callable | None = None, n_records: int = 1024):
         self.scheme = scheme
         fluid = None if immersed is None else jnp.asarray(immersed.fluid)
-        open_volume = np.prod(scheme.dx) * (1.0 if immersed is None else immersed.volume)
+        open_fraction = 1.0 if immersed is None else immersed.volume
+
+        def cfl_dt(U):
+            return stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid, scheme.radial)
         fill_solids = None if immersed is None else immersed.fill
         no_inflow = jnp.zeros((2 * scheme.dim, scheme.dim + 2))
         inflow = inflow or (lambda t: no_inflow)
 
         def checked(U_new, forces):
             probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
-            return U_new, stable_dt(U_new, scheme.gamma, scheme.dx, scheme.cfl, fluid), forces, probes
+            return U_new, cfl_dt(U_new), forces, probes
 
         def update(U, F, Wh, dt, gate):
             if immersed is None:
-                return staged(lambda U, F, dt: checked(*flux_update(U, F, dt, scheme)), gate)(U, F, dt)
+                return staged(lambda U, F, Wh, dt: checked(*flux_update(U, F, dt, scheme, Wh)), gate)(U, F, Wh, dt)
             # the cut-cell update in three stages: its right-hand side, the redistribution (which reads
             # the right-hand side of every neighbour), the reset of the solid cells with the checks
             D, forces = staged(lambda F, Wh: cut_cell_divergence(F, Wh, scheme, immersed), gate)(F, Wh)
@@ -280,8 +326,8 @@ class Stepper:
 
         def floored(U):
             U, cells, mass, energy = vacuum_floored(U, scheme.gamma, fluid)
-            return (U, stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid), cells, jnp.sum(mass * open_volume),
-                    jnp.sum(energy * open_volume))
+            open_volume = np.prod(scheme.dx) * revolved(U[0].shape, scheme.dx[0], scheme.radial) * open_fraction
+            return U, cfl_dt(U), cells, jnp.sum(mass * open_volume), jnp.sum(energy * open_volume)
 
         def step(state, t, dt):
             U, floors = state
@@ -317,7 +363,7 @@ class Stepper:
         #: one step, compiled when first called
         self.one_step = jax.jit(step)
         self.stretch = device_loop(step, n_probes, 2 * scheme.dim, n_records)
-        self.initial_dt = jax.jit(lambda U: stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid))
+        self.initial_dt = jax.jit(cfl_dt)
 
     @staticmethod
     def start(U):

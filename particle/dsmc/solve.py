@@ -82,7 +82,7 @@ def solve(scene, settings: DSMCSettings):
         gas.collide_with(settings.mean_free_path, settings.omega, settings.z_rot, settings.cfl)
     run = _Run(scene, gas, settings.record(), compile_seconds)
     cfl, window = settings.cfl, settings.window
-    t = 0.0
+    t = scene.t_start
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
@@ -409,7 +409,7 @@ class _Run(RunRecord):
 
     def __init__(self, scene, gas, settings, compile_seconds):
         self.scene, self.gas = scene, gas
-        super().__init__(scene, "dsmc", settings, compile_seconds, History(self.probes(), 2 * scene.dim))
+        super().__init__(scene, "dsmc", settings, compile_seconds, History(self.probes(), 2 * scene.dim, scene.t_start))
         self.sums = gas.output_sums()
         self.solid = None
         if scene.obstacles:

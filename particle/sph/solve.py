@@ -87,8 +87,8 @@ def solve(scene, settings: SPHSettings):
     sph.counters = {"search": 0.0, "density": 0.0, "forces": 0.0}, 0, 0
     P.H, P.rho = E.H, E.rho
     _observe_inlet(inflow, P, E, 0.0, eta)
-    run = _Run(scene, sph, settings.record(), compile_seconds, History(probes0, 2 * dim))
-    t = 0.0
+    run = _Run(scene, sph, settings.record(), compile_seconds, History(probes0, 2 * dim, scene.t_start))
+    t = scene.t_start
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:

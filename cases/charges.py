@@ -1,0 +1,250 @@
+"""Free-field charges (SPEC §4.4): the point blast as a sphere, and a TNT
+charge on the ground against the Kingery–Bulmash curves, in the r–z plane
+of an axisymmetric scene (x is the radius r from the axis, y the height z).
+
+The surface burst models the charge as a Brode balloon (Brode 1959, Phys.
+Fluids 2, 217): ideal gas of γ = 1.4 at the charge's density, holding its
+detonation energy, released at t = 0. A hemisphere on a rigid ground is
+half of a sphere of twice the mass in free air, so its flow is spherical:
+``surface_burst_1d`` runs that sphere in 1D, and ``surface_burst`` runs the
+r–z plane from the 1D solution remapped conservatively
+(:func:`partmesh.cases.ball.shells_remapped`) before the shock reaches the
+first gauge, where the charge, a few centimetres across, would otherwise
+need a grid of millions of cells.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from partmesh.cases import checks
+from partmesh.cases.ball import ball_density, shells_remapped
+from partmesh.cases.scene import OutputGrid, Precursor, Probe, Scene
+from partmesh.compare import exact, metrics
+from partmesh.compare.exact.kingery_bulmash import blast_parameters
+
+#: TNT: detonation energy [J/kg] and density [kg/m³] of the Brode balloon
+TNT = {"energy": 4.184e6, "density": 1600.0}
+#: sea-level air
+AIR = {"rho0": 1.225, "p0": 101325.0}
+#: the ground gauges, by scaled distance Z = R / W^(1/3) [m/kg^(1/3)]
+GAUGES = (1.0, 1.5, 2.0, 3.0, 5.0, 8.0, 12.0)
+#: the domain's extent, in scaled distance
+EXTENT = 16.0
+#: when the 1D solution is remapped onto the r–z grid, in scaled time [s/kg^(1/3)]: the shock is at Z ≈ 0.7
+T_REMAP = 2.5e-4
+#: the cells of the 1D run the r–z grid starts from, across the extent
+REMAP_CELLS = 25600
+
+
+def sedov_spherical(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_out=256, gamma=1.4):
+    """The Sedov–Taylor point blast as a sphere: one r–z quadrant (the axis
+    and the plane z = 0 symmetry walls, the far sides closed), the energy
+    ``E`` of the whole sphere deposited evenly over the ball of radius
+    ``max(r_init, 2 dx)`` (exactly, by each ring cell's share of it), so the
+    quadrant holds E/2."""
+    E, rho0, p0 = checks.positive("E", E), checks.positive("rho0", rho0), checks.positive("p0", p0)
+    t_end, r_init = checks.positive("t_end", t_end), checks.positive("r_init", r_init)
+    L = checks.positive("half_width", half_width)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
+    n_out = checks.integer("n_out", n_out, 16)
+    domain = ((0.0, L), (0.0, L))
+
+    def initial(x, y, dx):
+        p = p0 + (gamma - 1.0) * E * ball_density(x, y, max(r_init, 2.0 * dx), dx)
+        return rho0, 0.0, 0.0, p
+
+    def measure(ds):
+        return sphere_front(ds, exact.shock_radius(float(ds.time[-1]), E, rho0, gamma, "spherical"))
+
+    output = OutputGrid(domain=domain, shape=(n_out, n_out), times=(0.25 * t_end, 0.5 * t_end, t_end),
+                        dt_probe=t_end / 500)
+    return Scene(
+        name="sedov_spherical",
+        parameters=dict(E=E, rho0=rho0, p0=p0, t_end=t_end, r_init=r_init, half_width=L, n_out=n_out, gamma=gamma),
+        dim=2, domain=domain, gamma=gamma, initial=initial, geometry="axisymmetric",
+        boundaries={s: "reflect" for s in ("x_lo", "x_hi", "y_lo", "y_hi")},
+        output=output, dx=L / n_out, t_end=t_end, probes=(Probe("r05", 0.5 * L, 0.0),),
+        fields=("rho", "u", "v", "p", "e"), measure=measure,
+        exact_solution=lambda times: exact.sedov(E, rho0, p0, output.x, output.y, times, gamma=gamma,
+                                                 case="sedov_spherical", geometry="spherical"),
+        description="Spherical blast wave in r-z; measured: shock radius and its spread over polar angle against "
+                    "Sedov-Taylor.",
+    )
+
+
+def sphere_front(ds, exact_radius: float, sectors: int = 9) -> dict:
+    """The radius of a spherical front centred at the origin of an r–z
+    result at its final time: over the whole quadrant (the density's
+    ring-averaged threshold crossing, :func:`partmesh.compare.metrics.shock_radius`),
+    and per polar-angle sector of ``90°/sectors``, whose spread
+    (max − min over the mean) says how spherical the front is."""
+    rho = ds["rho"].isel(time=-1)
+    angle = np.degrees(np.arctan2(ds.x, ds.y))  # from the axis
+    edges = np.linspace(0.0, 90.0, sectors + 1)
+    per_sector = [metrics.shock_radius(rho.where((angle >= lo) & (angle < hi)), method="front")
+                  for lo, hi in zip(edges[:-1], edges[1:])]
+    radius = metrics.shock_radius(rho, method="front")
+    return {"shock_radius": radius, "shock_radius_exact": exact_radius,
+            "shock_radius_error": radius / exact_radius - 1.0,
+            "shock_radius_spread": (max(per_sector) - min(per_sector)) / float(np.mean(per_sector))}
+
+
+def _charge(W, rho0, p0, gamma):
+    """The checked charge and air, and the charge's hemisphere radius."""
+    W = checks.in_range("W", W, 1e-3, 1e6)
+    rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
+    return W, rho0, p0, gamma, (3.0 * W / (2.0 * np.pi * TNT["density"])) ** (1.0 / 3.0)
+
+
+def _balloon_pressure(gamma):
+    """The Brode balloon's pressure, (γ − 1) ρ_TNT e_TNT [Pa]."""
+    return (gamma - 1.0) * TNT["density"] * TNT["energy"]
+
+
+def _gauges(W, t_end, p0):
+    """The ground gauges, the output times and probe interval of a charge of ``W`` kg."""
+    scale = W ** (1.0 / 3.0)
+    probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0) for z in GAUGES)
+    return probes, tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2)) + (t_end,), 5e-6 * scale
+
+
+def gauge_metrics(ds, W: float, p0: float) -> dict:
+    """Per ground gauge ``Z…``: the peak overpressure (raw, and fitted back
+    to the arrival: :func:`partmesh.compare.metrics.peak`), the arrival
+    time, the positive-phase duration and impulse
+    (:func:`partmesh.compare.metrics.positive_phase`), each beside its
+    Kingery–Bulmash value (``…_kb``, the incident quantities of a
+    hemispherical surface burst, Swisdak 1994); NaN where a gauge's record
+    cannot be read (the run ended before its positive phase)."""
+    out = {}
+    for name in ds.probe.values:
+        p = ds["p_probe"].sel(probe=name)
+        kb = blast_parameters(float(ds.probe_x.sel(probe=name)), W)
+        try:
+            peak, phase = metrics.peak(p, baseline=p0), metrics.positive_phase(p, baseline=p0)
+            measured = {"peak_overpressure": float(p.max()) - p0, "peak_overpressure_fitted": peak["fitted"] - p0,
+                        "arrival_time": peak["arrival"], "positive_duration": phase["duration"],
+                        "positive_impulse": phase["impulse"]}
+        except ValueError:
+            measured = dict.fromkeys(("peak_overpressure", "peak_overpressure_fitted", "arrival_time",
+                                      "positive_duration", "positive_impulse"), float("nan"))
+        reference = {"peak_overpressure": kb.incident_overpressure, "arrival_time": kb.arrival_time,
+                     "positive_duration": kb.positive_duration, "positive_impulse": kb.incident_impulse}
+        out.update({f"{name}_{q}": v for q, v in measured.items()})
+        out.update({f"{name}_{q}_kb": float(v) for q, v in reference.items()})
+    return out
+
+
+def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=1600, dx=None):
+    """The surface burst of ``W`` kg TNT as the sphere it mirrors: a Brode
+    balloon of 2W kg in free air, in 1D (r from the centre to 16 W^(1/3) m,
+    an open far end), with the ground gauges at their distances; ``n_out``
+    output cells, ``dx`` the default cell size (the output cell when not
+    given)."""
+    W, rho0, p0, gamma, r_c = _charge(W, rho0, p0, gamma)
+    L = EXTENT * W ** (1.0 / 3.0)
+    t_end = 36e-3 * W ** (1.0 / 3.0) if t_end is None else checks.positive("t_end", t_end)
+    n_out = checks.integer("n_out", n_out, 16)
+    dx = L / n_out if dx is None else checks.positive("dx", dx)
+    p_c = _balloon_pressure(gamma)
+
+    def initial(x, y, cell):
+        inside = np.clip((np.minimum(x + 0.5 * cell, r_c) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3)
+                         / ((x + 0.5 * cell) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3), 0.0, 1.0)
+        return (rho0 + inside * (TNT["density"] - rho0), 0.0, 0.0, p0 + inside * (p_c - p0))
+
+    probes, times, dt_probe = _gauges(W, t_end, p0)
+    times = tuple(t for t in times if t < t_end) + (t_end,)
+    return Scene(
+        name="surface_burst_1d",
+        parameters=dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, dx=dx),
+        dim=1, domain=((0.0, L),), gamma=gamma, initial=initial, geometry="spherical",
+        boundaries={"x_lo": "reflect", "x_hi": "outflow"},
+        output=OutputGrid(domain=((0.0, L),), shape=(n_out,), times=times, dt_probe=dt_probe),
+        dx=dx, t_end=t_end, probes=tuple(Probe(pr.name, pr.x) for pr in probes),
+        measure=lambda ds: gauge_metrics(ds, W, p0),
+        description=f"Brode balloon of 2W = {2 * W:g} kg TNT in free air (the sphere a surface burst of W "
+                    "mirrors), 1D spherical; measured: the gauges against Kingery-Bulmash.",
+    )
+
+
+def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=400, start="remap"):
+    """A hemispherical charge of ``W`` kg TNT on a rigid ground (z = 0) as a
+    Brode balloon, in r–z over [0, 16 W^(1/3)]² (the axis and the ground
+    reflect, the far sides are open), with ground gauges ``Z1`` … ``Z12``.
+    ``start="remap"`` starts from the 1D spherical fv solution
+    (:func:`surface_burst_1d`, 25 600 cells) remapped conserving mass and
+    energy at t = 0.25 ms W^(1/3), the shock then at Z ≈ 0.7; ``"balloon"``
+    starts from the balloon itself at t = 0 (a few cells across on this grid)."""
+    W, rho0, p0, gamma, r_c = _charge(W, rho0, p0, gamma)
+    checks.choice("start", start, ("remap", "balloon"))
+    scale = W ** (1.0 / 3.0)
+    L = EXTENT * scale
+    t_end = 36e-3 * scale if t_end is None else checks.positive("t_end", t_end)
+    n_out = checks.integer("n_out", n_out, 16)
+    domain = ((0.0, L), (0.0, L))
+    probes, times, dt_probe = _gauges(W, t_end, p0)
+    times = tuple(t for t in times if t < t_end) + (t_end,)
+    p_c = _balloon_pressure(gamma)
+    sphere_volume = (4.0 / 3.0) * np.pi * r_c ** 3
+
+    def balloon(x, y, dx):
+        inside = ball_density(x, y, r_c, dx) * sphere_volume  # the fraction of each ring cell in the charge
+        return (rho0 + inside * (TNT["density"] - rho0), 0.0, 0.0, p0 + inside * (p_c - p0))
+
+    parameters = dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, start=start)
+    scene = Scene(
+        name="surface_burst", parameters=parameters, dim=2, domain=domain, gamma=gamma, initial=balloon,
+        geometry="axisymmetric",
+        boundaries={"x_lo": "reflect", "x_hi": "outflow", "y_lo": "reflect", "y_hi": "outflow"},
+        output=OutputGrid(domain=domain, shape=(n_out, n_out), times=times, dt_probe=dt_probe),
+        dx=L / 800, t_end=t_end, probes=probes, fields=("rho", "u", "v", "p", "e"),
+        measure=lambda ds: gauge_metrics(ds, W, p0),
+        description="Hemispherical TNT surface burst (Brode balloon) in r-z; measured: peak overpressure, arrival, "
+                    "positive duration and impulse at the ground gauges against Kingery-Bulmash.",
+    )
+    if start == "balloon":
+        return scene
+    t_remap = T_REMAP * scale
+    sphere = surface_burst_1d(W, rho0, p0, gamma, t_end=t_remap, n_out=REMAP_CELLS)
+    return dataclasses.replace(scene, precursor=Precursor(sphere, "fv", {"dx": L / REMAP_CELLS},
+                                                         lambda ds: remapped(scene, ds)))
+
+
+def remapped(scene: Scene, sphere) -> Scene:
+    """``scene`` starting from the last frame of the 1D spherical result
+    ``sphere`` (on its solver's cells), remapped onto the r–z cells by the
+    overlap of every ring cell with every spherical shell
+    (:func:`partmesh.cases.ball.shells_remapped`): each cell's mass,
+    momentum and energy are what the shells it covers held, so the grid
+    holds the sphere's half to round-off; the radial momentum is split
+    into r and z by the direction of each cell's centre."""
+    gamma = scene.gamma
+    last = sphere.isel(time=-1)
+    rho, u, p = (np.asarray(last[f].values, float) for f in ("rho", "u", "p"))
+    x = np.asarray(sphere.x.values, float)
+    edges = np.concatenate([[0.0], 0.5 * (x[1:] + x[:-1]), [x[-1] + 0.5 * (x[-1] - x[-2])]])
+    ambient = scene.parameters["rho0"], scene.parameters["p0"]
+    moments = {"mass": rho, "momentum": rho * u, "energy": p / (gamma - 1.0) + 0.5 * rho * u * u}
+    outside = {"mass": ambient[0], "momentum": 0.0, "energy": ambient[1] / (gamma - 1.0)}
+    t_start = float(sphere.time[-1])
+
+    def initial(r, z, dx):
+        mean = {k: shells_remapped(r, z, dx, edges, v, outside[k]) for k, v in moments.items()}
+        R = np.hypot(r, z)
+        direction = np.where(R > 0.0, 1.0 / np.where(R > 0.0, R, 1.0), 0.0)
+        rho_c = mean["mass"]
+        u_r, u_z = mean["momentum"] * r * direction / rho_c, mean["momentum"] * z * direction / rho_c
+        p_c = (gamma - 1.0) * (mean["energy"] - 0.5 * rho_c * (u_r * u_r + u_z * u_z))
+        return rho_c, u_r, u_z, p_c
+
+    note = (f"started at t = {t_start:.6g} s from the 1D spherical fv run surface_burst_1d on {x.size} cells "
+            "remapped onto the r-z cells by their exact overlap with its shells (mass, momentum magnitude and "
+            "energy of every shell kept)")
+    return dataclasses.replace(scene, initial=initial, t_start=t_start, precursor=None,
+                               parameters={**scene.parameters, "started_from": note},
+                               description=f"{scene.description} {note[0].upper()}{note[1:]}.")
