@@ -50,6 +50,7 @@ from scipy.spatial import cKDTree
 from partmesh.cases.shape_queries import normal, signed_distance
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 from partmesh.gridref.grid import bilinear_stencil, mesh
+from partmesh.gridref.revolution import cell_volumes, face_areas, hoop, revolved
 
 #: sub-samples per cell side (volume fractions) and per face (apertures)
 SAMPLES = 16
@@ -69,13 +70,15 @@ class ImmersedBoundary:
     solid: np.ndarray  # (ny, nx) cell centres inside a body (the output's solid mask)
     apertures: tuple[np.ndarray, np.ndarray]  # α of the x faces (ny, nx+1) and y faces (ny+1, nx)
     cut: np.ndarray  # flat indices of the cells holding a piece of wall
-    wall: np.ndarray  # (2, n_cut) B/V: wall length over cell area, times its unit normal into the solid
+    wall: np.ndarray  # (2, n_cut) B/V: the wall vector that closes each cut cell, per full cell volume
+    wall_normal: np.ndarray  # (2, n_cut) the unit normal of each cut cell's wall, into the solid
     ghost: np.ndarray  # flat indices of ghost cells
     stencil: np.ndarray  # (n_ghost, 4) flat indices of the image-point stencil
     weights: np.ndarray  # (n_ghost, 4), zero on solid cells, rows sum to 1
     normal: np.ndarray  # (2, n_ghost) outward unit normals
     periodic: tuple[bool, bool]  # along x, y
     group: np.ndarray  # flat index of the cell each cell is merged into (itself if none)
+    weight: np.ndarray | float = 1.0  # (ny, nx) each cell's full volume relative to a planar cell's (2π r_c in r–z)
 
     @property
     def fluid(self) -> np.ndarray:
@@ -101,7 +104,7 @@ class ImmersedBoundary:
         Riemann problem between the cell's primitive state ``W`` and its
         mirror image across the wall."""
         rho, u, v, p = (a.ravel()[self.cut] for a in W)
-        nx, ny = self.wall / np.hypot(*self.wall)  # (every cut cell holds a piece of wall)
+        nx, ny = self.wall_normal
         un, ut = u * nx + v * ny, v * nx - u * ny
         p_wall = RIEMANN_SOLVERS[riemann]((rho, un, ut, p), (rho, -un, ut, p), gamma)[1]
         zero = jnp.zeros(self.shape)
@@ -118,13 +121,16 @@ class ImmersedBoundary:
         givers, giver_nb, band, band_nb = self.redistribution
         kappa_g, around_g, others_g = self._volumes(givers, giver_nb)
         kappa_b, around_b, others_b = self._volumes(band, band_nb)
+        weight_g = np.broadcast_to(self.weight, self.shape).ravel()[givers]
         open_ = jnp.asarray(self.fluid)
         out = []
         for u, D in zip(U, divergence):
-            average = _band_sum(D, giver_nb) / np.where(around_g > 0.0, around_g, 1.0)  # Σ κ D^C / Σ κ
-            deficit = jnp.where(others_g > 0.0, (1.0 - kappa_g) * (D.ravel()[givers] - kappa_g * average), 0.0)
+            Dw = D * self.weight  # (the volumes: κ w of a cell of weight w)
+            average = _band_sum(Dw, giver_nb) / np.where(around_g > 0.0, around_g, 1.0)  # Σ κ w D^C / Σ κ w
+            deficit = jnp.where(others_g > 0.0, (1.0 - kappa_g) * (D.ravel()[givers] - kappa_g * average) * weight_g,
+                                0.0)
             shares = jnp.zeros(D.size).at[givers].set(deficit / np.where(others_g > 0.0, others_g, 1.0))
-            average = _band_sum(D, band_nb) / np.where(around_b > 0.0, around_b, 1.0)
+            average = _band_sum(Dw, band_nb) / np.where(around_b > 0.0, around_b, 1.0)
             D_band = D.ravel()[band]
             hybrid = jnp.where(others_b > 0.0, D_band + (1.0 - kappa_b) * average,
                                D_band / np.where(kappa_b > 0.0, kappa_b, 1.0))
@@ -134,11 +140,12 @@ class ImmersedBoundary:
         return self.mixed(tuple(out))
 
     def _volumes(self, cells, neighbours):
-        """At ``cells``: κ, its sum Σ κ over their 3 × 3 neighbourhoods, and
-        the open volume of the neighbours alone."""
+        """At ``cells``: κ, the open volume Σ κ w over their 3 × 3
+        neighbourhoods, and that of the neighbours alone."""
         kappa = self.volume.ravel()[cells]
-        around = _band_sum(self.volume, neighbours, np)
-        return kappa, around, around - kappa
+        volume = self.volume * self.weight
+        around = _band_sum(volume, neighbours, np)
+        return kappa, around, around - volume.ravel()[cells]
 
     @property
     def redistribution(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -157,11 +164,11 @@ class ImmersedBoundary:
                                                                                              self.periodic)
 
     def mixed(self, U):
-        """``U`` with every merged group of cells set to its mean, Σ κ U / Σ κ."""
+        """``U`` with every merged group of cells set to its mean, Σ κ w U / Σ κ w."""
         members, label = self.merged
         if members.size == 0:
             return U
-        kappa = self.volume.ravel()[members]
+        kappa = (self.volume * self.weight).ravel()[members]
         n_groups = int(label.max()) + 1
         volume = np.bincount(label, weights=kappa, minlength=n_groups)
         out = []
@@ -311,15 +318,25 @@ def merge_groups(kappa, periodic) -> np.ndarray:
     return group
 
 
-def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0) -> ImmersedBoundary:
+def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0, radial: int = 0) -> ImmersedBoundary:
     """Cut cells and ghost-cell tables for ``shapes`` on the 2D ``grid``
-    (square cells)."""
+    (square cells); ``radial = 1``: the r–z plane of an axisymmetric run
+    (x the radius), where faces and volumes are those of rings
+    (:mod:`partmesh.gridref.revolution`) and the wall vector closes the cell
+    against the hoop source too (module docstring of :mod:`partmesh.gridref.euler.step`)."""
     X, Y = mesh(grid)
     h = grid.step[0]
     kappa, ax, ay = cut_cells(grid, shapes, periodic)
-    # B/V = −(Σ_f α_f A_f n_f)/V: the wall vector that closes each cell, per cell area
-    wall = np.stack([-(ax[:, 1:] - ax[:, :-1]) / h, -(ay[1:] - ay[:-1]) / h])
-    cut = np.flatnonzero((kappa > 0.0) & (np.hypot(wall[0], wall[1]) > 1e-12 / h))
+    # −(Σ_f α_f A_f n_f)/V: the wall vector that closes each planar cell, per cell area; its direction is the wall's
+    planar = np.stack([-(ax[:, 1:] - ax[:, :-1]) / h, -(ay[1:] - ay[:-1]) / h])
+    cut = np.flatnonzero((kappa > 0.0) & (np.hypot(planar[0], planar[1]) > 1e-12 / h))
+    wall, weight = planar, 1.0
+    if radial:  # B/V = κ g e_r − (Σ_f α_f a_f A_f n_f)/V with ring faces a_f and volumes v: the hoop source closes too
+        nx = kappa.shape[1]
+        a, v = face_areas(0, nx + 1, h, radial), cell_volumes(0, nx, h, radial)
+        wall = np.stack([kappa * hoop(0, nx, h, radial) - (ax[:, 1:] * a[1:] - ax[:, :-1] * a[:-1]) / (v * h),
+                         planar[1]])
+        weight = revolved(kappa.shape, h, radial)
     phi, (nx, ny) = signed_distance(shapes, X, Y), normal(shapes, X, Y)
     fluid = kappa > 0.0
     ghost = np.flatnonzero(~fluid & (phi > -band * h))
@@ -339,6 +356,12 @@ def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0) 
     weights = weights / total[:, None]
     return ImmersedBoundary(
         shape=kappa.shape, volume=kappa, solid=phi < 0.0, apertures=(ax, ay), cut=cut,
-        wall=np.stack([w.ravel()[cut] for w in wall]), ghost=ghost, stencil=stencil, weights=weights,
-        normal=np.stack([g_nx, g_ny]), periodic=tuple(bool(p) for p in periodic), group=merge_groups(kappa, periodic),
+        wall=np.stack([w.ravel()[cut] for w in wall]), wall_normal=_unit(np.stack([w.ravel()[cut] for w in planar])),
+        ghost=ghost, stencil=stencil, weights=weights, normal=np.stack([g_nx, g_ny]),
+        periodic=tuple(bool(p) for p in periodic), group=merge_groups(kappa, periodic), weight=weight,
     )
+
+
+def _unit(vectors: np.ndarray) -> np.ndarray:
+    """The columns of ``vectors`` (2, n) scaled to unit length."""
+    return vectors / np.hypot(*vectors)

@@ -9,7 +9,7 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_initial_state, check_obstacles
-from partmesh.cases.errors import InputError, Unsupported
+from partmesh.cases.errors import InputError
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
 from partmesh.cases.scene import Inflow
@@ -130,10 +130,7 @@ def _immersed(scene, grid, dx):
     check_obstacles(scene, dx)
     if not scene.obstacles:
         return None
-    if scene.geometry != "planar":
-        raise Unsupported(f"fv runs obstacles in planar scenes only, and {scene.name} is {scene.geometry} with "
-                          f"{len(scene.obstacles)} obstacle(s).")
-    return immersed_boundary(grid, scene.obstacles, scene.periodic)
+    return immersed_boundary(grid, scene.obstacles, scene.periodic, radial=GEOMETRIES[scene.geometry])
 
 
 class _Run(RunRecord):

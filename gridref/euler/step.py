@@ -268,11 +268,15 @@ def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed):
     """``(D, side_forces)``: the right-hand side of the cut-cell update,
     the faces' fluxes through their open fractions plus the walls'
     pressure from the half-step state ``Wh`` (the interior plus one ghost
-    layer), per full cell volume."""
+    layer), per full cell volume; of revolution, less the hoop source of
+    the cell's open part (which the wall vector balances for a gas at rest)."""
     divergence, forces = flux_divergence(fluxes, scheme, immersed.apertures)
     W = tuple(cropped(a, scheme.axes) for a in Wh)
     walls = immersed.wall_divergence(W, scheme.gamma, scheme.riemann)
-    return [d + w for d, w in zip(divergence, walls)], forces
+    divergence = [d + w for d, w in zip(divergence, walls)]
+    if scheme.radial:  # the hoop source of the open part of each cell
+        divergence = [d - immersed.volume * s for d, s in zip(divergence, hoop_source(Wh, scheme))]
+    return divergence, forces
 
 
 class Stepper:
