@@ -76,13 +76,17 @@ class History:
             if scene.dim == 1:
                 scale, ambient = scene.wall.height, scene.wall.p0
             else:
-                lo, hi = scene.domain[1 - side // 2]
-                scale, ambient = 1.0, scene.wall.p0 * (hi - lo)
+                scale, ambient = 1.0, scene.wall.p0 * scene.side_area(scene.wall.side)
             force = (np.stack(self.forces)[:, side] - ambient) * scale
             impulse = (np.stack(self.impulses)[:, side] - ambient * (np.asarray(self.t) - self.t0)) * scale
             out["wall_force"] = np.interp(t_probe, self.force_t, force)
             out["wall_impulse"] = np.interp(t_probe, self.t, impulse)
         return out
+
+
+#: the wall load of an axisymmetric scene, over the wall's whole ring: (name, units, long name)
+RING_LOADS = (("wall_force", "N", "force on the target wall over its whole ring, integral of (p_wall - p0) dA"),
+              ("wall_impulse", "N s", "wall impulse over the whole ring, time integral of wall_force"))
 
 
 class RunRecord(ABC):
@@ -184,7 +188,7 @@ class RunRecord(ABC):
             attrs.update(t_start=scene.t_start, started_from=scene.parameters.get("started_from", ""))
         if failure:
             attrs["failure"] = failure
-        return result(
+        ds = result(
             case=scene.name, method=self.method, scheme=scheme,
             x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields, solid=solid,
             probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
@@ -193,6 +197,11 @@ class RunRecord(ABC):
             dx=self.settings["dx"], n_elements=n_elements, n_steps=self.n_steps, wall_seconds=wall,
             compile_seconds=self.compile_seconds, frame_seconds=np.asarray(self.frame_seconds), **attrs,
         )
+        if scene.geometry == "axisymmetric":  # a wall of revolution: its whole ring
+            for name, units, long_name in RING_LOADS:
+                if name in ds:
+                    ds[name].attrs.update(units=units, long_name=long_name)
+        return ds
 
     @abstractmethod
     def output(self):

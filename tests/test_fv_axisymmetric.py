@@ -212,3 +212,16 @@ def test_the_surface_burst_starts_from_its_1d_sphere_with_the_same_mass_and_ener
                                                  rel=1e-13)
     assert np.sum(energy * volume) == pytest.approx(0.5 * np.sum(sphere_energy * shells)
                                                     + p0 / (GAMMA - 1.0) * beyond, rel=1e-12)
+
+
+def test_the_wall_load_of_a_disc_is_its_pressure_over_the_whole_disc():
+    """A gas at rest at p1 in a closed cylinder loads its top disc with (p1 − p0) π R², in N."""
+    from partmesh.cases.parts import Wall
+
+    p0, p1 = 1e5, 3e5
+    scene = dataclasses.replace(sedov_spherical(t_end=1e-3, n_out=32), initial=lambda x, y, dx: (1.0, 0.0, 0.0, p1),
+                                wall=Wall("y_hi", p0, 1.0), measure=None)
+    ds = partmesh.run(scene, "fv", progress=False)
+    assert ds.wall_force.attrs["units"] == "N"
+    np.testing.assert_allclose(ds.wall_force.values, (p1 - p0) * math.pi * 1.0 ** 2, rtol=1e-12)
+    assert float(ds.wall_impulse[-1]) == pytest.approx((p1 - p0) * math.pi * 1e-3, rel=1e-9)

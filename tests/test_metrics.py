@@ -267,6 +267,14 @@ def test_positive_phase_of_a_friedlander_wave():
     assert ph["impulse"] == pytest.approx(exact + P * DT / 2, abs=1e-3 * P * DT)
 
 
+def test_round_off_on_a_quiet_baseline_does_not_start_the_positive_phase_early():
+    """A computed baseline a few ulps above ambient ahead of the front (p0 + 1e-11) reads as ambient."""
+    t, v = friedlander()
+    ph = positive_phase(series(t, np.where(t < TA, v + 1e-11 * P0, v)), P0)
+    assert ph["start"] == pytest.approx(TA - DT, abs=1e-12)
+    assert ph["duration"] == pytest.approx(T + DT, abs=1e-9)
+
+
 def test_positive_phase_truncated_series():
     t, v = friedlander()
     keep = t < TA + 0.5 * T

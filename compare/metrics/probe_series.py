@@ -63,11 +63,16 @@ def arrival_time(series: xr.DataArray, baseline: float, threshold_fraction: floa
     return _arrival(t, v, baseline, f)[0]
 
 
+#: ahead of the arrival, a sample is above the baseline when it exceeds it by more than this fraction of the
+#: peak excess (:func:`positive_phase`)
+QUIET = 1e-6
+
+
 def _phase(t, v, baseline, threshold_fraction):
     ta, i = _arrival(t, v, baseline, threshold_fraction)
     above = v > baseline
-    # start: the upward crossing of baseline just before the arrival
-    below_before = np.nonzero(~above[:i])[0]
+    # start: the upward crossing of baseline just before the arrival (past the round-off of a quiet baseline)
+    below_before = np.nonzero(~(v[:i] > baseline + QUIET * (float(v.max()) - baseline)))[0]
     if below_before.size:
         j = int(below_before[-1])
         start = t[j] + (baseline - v[j]) * (t[j + 1] - t[j]) / (v[j + 1] - v[j])
@@ -99,7 +104,11 @@ def positive_phase(series: xr.DataArray, baseline: float, threshold_fraction: fl
 
     The positive phase runs from the upward crossing of ``baseline`` just
     before the arrival (see :func:`arrival_time`) to the first return to
-    ``baseline`` after it, both crossings linearly interpolated; over it:
+    ``baseline`` after it, both crossings linearly interpolated (before the
+    arrival a sample counts as above the baseline when it exceeds it by
+    more than :data:`QUIET` of the peak excess, so the round-off of a quiet
+    baseline ahead of a computed front does not start the phase early);
+    over it:
 
         I₊ = ∫ (v − baseline) dt     (trapezoid rule on the samples plus the
                                       two interpolated crossings),

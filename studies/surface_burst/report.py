@@ -1,0 +1,150 @@
+"""The surface_burst record: every run's ground gauges against Kingery–Bulmash.
+
+    python studies/surface_burst/report.py RUNS_FOLDER studies/surface_burst
+
+Reads every ``surface_burst`` and ``surface_burst_1d`` result in RUNS_FOLDER
+(one charge mass) and writes beside this script
+
+* ``gauges.csv``: per run and gauge, the peak overpressure (raw and fitted
+  back to the arrival), arrival time, positive duration and impulse, the
+  Kingery–Bulmash value of each and the ratio to it, with the run's method,
+  geometry, cell size, cells and solver time;
+* ``peaks.png``: peak overpressure and positive impulse against scaled
+  distance on log axes, the Kingery–Bulmash curves and every run;
+* ``histories.png``: overpressure at every gauge, every run overlaid;
+* ``schlieren.png``: a numerical schlieren of the r–z runs at an output time
+  when the front has crossed the middle gauges.
+
+The gauge values are measured anew from each run's probe series
+(:func:`partmesh.cases.charges.gauge_metrics`), so runs written before a
+change of that measure are read alike.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from partmesh.cases.charges import gauge_metrics  # noqa: E402
+from partmesh.compare.exact.kingery_bulmash import scaled_value  # noqa: E402
+from partmesh.compare.io import read  # noqa: E402
+from partmesh.compare.metrics import schlieren  # noqa: E402
+
+QUANTITIES = ("peak_overpressure", "peak_overpressure_fitted", "arrival_time", "positive_duration",
+              "positive_impulse")
+
+
+def label(ds) -> str:
+    """Method, geometry and cell size."""
+    return f"{ds.attrs['method']} {'1D sphere' if ds.attrs['geometry'] == 'spherical' else 'r-z'} dx={ds.attrs['dx']:g} m"
+
+
+def charge(ds) -> tuple[float, float]:
+    """The run's charge mass W [kg] and ambient pressure p0 [Pa]."""
+    scene = json.loads(ds.attrs["parameters"])["scene"]
+    return scene["W"], scene["p0"]
+
+
+def table(runs: dict) -> pd.DataFrame:
+    """One row per run and gauge (see the module docstring)."""
+    rows = []
+    for name, ds in runs.items():
+        W, p0 = charge(ds)
+        values = gauge_metrics(ds, W, p0)
+        for gauge, x in zip(ds.probe.values, ds.probe_x.values):
+            row = {"run": name, "method": ds.attrs["method"], "geometry": ds.attrs["geometry"], "dx": ds.attrs["dx"],
+                   "cells": ds.attrs["n_elements"], "wall_seconds": ds.attrs["wall_seconds"], "gauge": gauge,
+                   "Z": x / W ** (1.0 / 3.0)}
+            for q in QUANTITIES:
+                row[q] = values[f"{gauge}_{q}"]
+                kb = values[f"{gauge}_{q.replace('_fitted', '')}_kb"]
+                row[f"{q}_kb"], row[f"{q}_ratio"] = kb, row[q] / kb
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def peaks_figure(df: pd.DataFrame, path: Path) -> None:
+    """Peak overpressure and positive impulse against Z, with the Kingery–Bulmash curves."""
+    Z = np.geomspace(0.8, 14.0, 200)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, (q, kb, unit, scale) in zip(axes, (("peak_overpressure", "incident_overpressure", "kPa", 1e-3),
+                                               ("positive_impulse", "incident_impulse", "Pa s", 1.0))):
+        ax.loglog(Z, scaled_value(kb, Z) * scale, "k-", lw=2, label="Kingery-Bulmash (Swisdak 1994)")
+        for run, rows in df.groupby("run", sort=False):
+            ax.loglog(rows.Z, rows[q] * scale, "o-", ms=4, lw=1, label=run)
+        ax.set_xlabel("scaled distance Z [m/kg^(1/3)]")
+        ax.set_ylabel(f"{q.replace('_', ' ')} [{unit}]" + (" (per kg^(1/3))" if "impulse" in q else ""))
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def histories_figure(runs: dict, path: Path) -> None:
+    """Overpressure at every gauge, every run overlaid."""
+    gauges = list(next(iter(runs.values())).probe.values)
+    fig, axes = plt.subplots(len(gauges), 1, figsize=(8, 2.0 * len(gauges)))
+    for ax, gauge in zip(np.atleast_1d(axes), gauges):
+        for name, ds in runs.items():
+            _, p0 = charge(ds)
+            p = ds["p_probe"].sel(probe=gauge)
+            ax.plot(p.t_probe * 1e3, (p - p0) * 1e-3, lw=1, label=name)
+        ax.set_ylabel(f"{gauge} [kPa]")
+        ax.grid(True, alpha=0.3)
+    np.atleast_1d(axes)[-1].set_xlabel("t [ms]")
+    np.atleast_1d(axes)[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def schlieren_figure(runs: dict, path: Path, t: float) -> None:
+    """A numerical schlieren of every r–z run at the output time nearest ``t``."""
+    planes = {name: ds for name, ds in runs.items() if ds.attrs["geometry"] == "axisymmetric"}
+    if not planes:
+        return
+    fig, axes = plt.subplots(1, len(planes), figsize=(4.5 * len(planes), 4.2), squeeze=False)
+    for ax, (name, ds) in zip(axes[0], planes.items()):
+        frame = ds["rho"].sel(time=t, method="nearest")
+        ax.pcolormesh(ds.x, ds.y, schlieren(frame), cmap="gray_r", shading="auto")
+        ax.set_aspect("equal")
+        ax.set_title(f"{name}\nt = {float(frame.time) * 1e3:.3g} ms", fontsize=8)
+        ax.set_xlabel("r [m]")
+        ax.set_ylabel("z [m]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", type=Path)
+    parser.add_argument("out", type=Path)
+    args = parser.parse_args(argv)
+    found = {}
+    for path in sorted(args.runs.glob("*.nc")):
+        ds = read(path)
+        if ds.attrs["case"] in ("surface_burst", "surface_burst_1d"):
+            found[label(ds)] = ds
+    runs = dict(sorted(found.items(), key=lambda kv: (kv[1].attrs["geometry"], -kv[1].attrs["dx"])))
+    df = table(runs)
+    args.out.mkdir(parents=True, exist_ok=True)
+    df.to_csv(args.out / "gauges.csv", index=False, float_format="%.6g")
+    peaks_figure(df, args.out / "peaks.png")
+    histories_figure(runs, args.out / "histories.png")
+    W = charge(next(iter(runs.values())))[0]
+    schlieren_figure(runs, args.out / "schlieren.png", 5e-3 * W ** (1.0 / 3.0))
+    print(df.pivot_table(index="gauge", columns="run", values="peak_overpressure_ratio", sort=False).round(3))
+
+
+if __name__ == "__main__":
+    main()
