@@ -70,6 +70,8 @@ def shells_remapped(r, z, dx: float, edges: np.ndarray, contents: np.ndarray, ou
     volume = ring_volumes(r, dx)
     out = np.full(r.size, float(outside)) * volume
     near = np.hypot(np.maximum(r - 0.5 * dx, 0.0), np.maximum(np.abs(z) - 0.5 * dx, 0.0)) < edges[-1]
+    if not np.any(near):
+        return out.reshape(shape) / volume.reshape(shape)
     rn, zn = r[near], z[near]
     far = np.hypot(rn + 0.5 * dx, np.abs(zn) + 0.5 * dx)
     first = np.searchsorted(edges, np.hypot(np.maximum(rn - 0.5 * dx, 0.0), np.maximum(np.abs(zn) - 0.5 * dx, 0.0)),

@@ -77,8 +77,8 @@ def sedov_spherical(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width
 
 def sphere_front(ds, exact_radius: float, sectors: int = 9) -> dict:
     """The radius of a spherical front centred at the origin of an r–z
-    result at its final time: over the whole quadrant (the density's
-    ring-averaged threshold crossing, :func:`partmesh.compare.metrics.shock_radius`),
+    result at its final time: over the whole quadrant (the threshold crossing of the density averaged over
+    the cells of each ring of radius, :func:`partmesh.compare.metrics.shock_radius`),
     and per polar-angle sector of ``90°/sectors``, whose spread
     (max − min over the mean) says how spherical the front is."""
     rho = ds["rho"].isel(time=-1)
@@ -185,6 +185,9 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     scale = W ** (1.0 / 3.0)
     L = EXTENT * scale
     t_end = 36e-3 * scale if t_end is None else checks.positive("t_end", t_end)
+    if start == "remap" and not t_end > T_REMAP * scale:
+        raise checks.InputError(f"t_end must be later than {T_REMAP * scale:g} s, when a surface burst of W = {W:g} kg "
+                                f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((0.0, L), (0.0, L))
     probes, times, dt_probe = _gauges(W, t_end, p0)

@@ -48,6 +48,9 @@ def check_scene(scene) -> None:
         raise InputError(f"scene {scene.name}: output times must increase strictly within [t_start={t0:g}, "
                          f"t_end={scene.t_end:g}], got {list(times)}.")
     for probe in scene.probes:
+        if getattr(scene, "geometry", "planar") != "planar" and probe.x < 0.0:
+            raise InputError(f"probe {probe.name!r} of scene {scene.name} lies at r = {probe.x:g} m; in an "
+                             f"{scene.geometry} scene the radius r (x) must be >= 0.")
         inside = all(lo <= c <= hi for c, (lo, hi) in zip((probe.x, probe.y), scene.domain))
         if not inside:
             where = f"({probe.x:g}, {probe.y:g})" if scene.dim == 2 else f"x = {probe.x:g}"
@@ -69,8 +72,9 @@ GAS_GEOMETRIES = ("planar", "axisymmetric", "spherical")
 
 def check_geometry(scene) -> None:
     """A geometry of revolution starts at its axis (or centre): the domain
-    along x (r) begins at 0 with a reflecting ``x_lo``, a sphere is 1D,
-    and no probe or obstacle lies at r < 0."""
+    along x (r) begins at 0 with a reflecting ``x_lo``, a sphere is 1D, no
+    obstacle lies at r < 0 (a probe there is refused by :func:`check_scene`)
+    and a 1D target wall is planar."""
     choice("geometry", scene.geometry, GAS_GEOMETRIES)
     if scene.geometry == "planar":
         return
@@ -84,10 +88,9 @@ def check_geometry(scene) -> None:
     if scene.boundaries.get("x_lo") != "reflect":
         raise InputError(f"scene {scene.name}: the axis of an {scene.geometry} scene (side x_lo, r = 0) is a "
                          f"symmetry boundary and must be 'reflect', got {scene.boundaries.get('x_lo')!r}.")
-    for probe in scene.probes:
-        if probe.x < 0.0:
-            raise InputError(f"probe {probe.name!r} of scene {scene.name} lies at r = {probe.x:g} m; in an "
-                             f"{scene.geometry} scene the radius r (x) must be >= 0.")
+    if scene.wall is not None and scene.dim == 1:
+        raise InputError(f"scene {scene.name}: a target wall needs a planar scene in 1D (its load is per square "
+                         f"metre of a plane wall); {scene.name} is {scene.geometry}.")
     for i, shape in enumerate(scene.obstacles):
         xmin = shape.bounds()[0]
         if xmin < 0.0:

@@ -28,9 +28,10 @@ class History:
     """The records of one run, one per step or per probe sample.
 
     The history begins at ``t0`` (the scene's ``t_start``) with the probe
-    values ``probes0``. A record of ``[t0, t1]`` holds the probe values at ``t1`` and the
-    time-centred force on every side over the interval (per metre depth in
-    2D, per square metre in 1D); the impulse is accumulated as Σ force·dt.
+    values ``probes0``. A record of ``[t0, t1]`` holds the probe values at
+    ``t1`` and the time-centred force on every side over the interval
+    (planar: per metre depth in 2D, per square metre in 1D; of revolution:
+    over the whole revolved side); the impulse is accumulated as Σ force·dt.
     """
 
     probes0: np.ndarray

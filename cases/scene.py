@@ -130,8 +130,8 @@ class Scene(_Scenes):
     boundary_kinds = BOUNDARY_KINDS
 
     def __post_init__(self):
-        check_geometry(self)
         check_scene(self)
+        check_geometry(self)
         in_range("gamma", self.gamma, 1.0, 5.0, lo_open=True)
 
 

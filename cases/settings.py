@@ -103,8 +103,11 @@ class Settings:
                 "t_end": scene.t_end if self.t_end is None else self.t_end}
 
     def check_together(self, scene) -> None:
-        """Rules between settings, or between a setting and the scene
-        (none here); raise :class:`InputError`."""
+        """Rules between settings, or between a setting and the scene (here:
+        the run ends after the scene starts); raise :class:`InputError`."""
+        if not self.t_end > scene.t_start:
+            raise InputError(f"t_end must be later than the time scene {scene.name} starts at, "
+                             f"t_start = {scene.t_start:g} s, got {self.t_end:g} s.")
 
     def record(self) -> dict:
         """The settings a result and a checkpoint keep: ``method``, then

@@ -53,6 +53,7 @@ class HybridSettings(SPHScheme):
         return int(round(1.0 / self.beta))
 
     def check_together(self, scene) -> None:
+        super().check_together(scene)
         if abs(self.per_cell * self.beta - 1.0) > 1e-9 or self.per_cell > MOST_PER_CELL:
             raise InputError(f"beta must be 1/k for a whole k from 1 to {MOST_PER_CELL} (particles per cell width); "
                              f"got {self.beta:g}.")

@@ -34,13 +34,14 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
     """
     if isinstance(scene, str):
         scene = registry.get(scene)
-    if scene.precursor is not None:  # the run that computes the scene's starting state comes first
-        pre = scene.precursor
-        scene = pre.start(run(pre.scene, pre.method, progress=settings.get("progress", True), **pre.settings))
     chosen = registry.method(method)
     refusal = chosen.refusal(scene)
     if refusal:
         raise Unsupported(refusal)
+    if scene.precursor is not None:  # the run that computes the scene's starting state comes first
+        chosen.checked(scene, settings)  # (bad settings are refused before it)
+        pre = scene.precursor
+        scene = pre.start(run(pre.scene, pre.method, progress=settings.get("progress", True), **pre.settings))
     if ensembles != 1:
         settings.pop("progress", None)  # (workers show none)
         ds = run_ensemble(scene, method, ensembles, scheduler=scheduler, workers=workers, **settings)

@@ -225,3 +225,27 @@ def test_the_wall_load_of_a_disc_is_its_pressure_over_the_whole_disc():
     assert ds.wall_force.attrs["units"] == "N"
     np.testing.assert_allclose(ds.wall_force.values, (p1 - p0) * math.pi * 1.0 ** 2, rtol=1e-12)
     assert float(ds.wall_impulse[-1]) == pytest.approx((p1 - p0) * math.pi * 1e-3, rel=1e-9)
+
+
+def test_a_surface_burst_is_refused_before_its_1d_sphere_runs():
+    with pytest.raises(Unsupported, match="runs planar scenes, and surface_burst is axisymmetric"):
+        partmesh.run("surface_burst", "hybrid", progress=False)
+    with pytest.raises(InputError, match="has no setting 'limitr'"):
+        partmesh.run("surface_burst", "fv", limitr="mc", progress=False)
+    with pytest.raises(InputError, match=r"^t_end must be later than 0.00025 s"):
+        partmesh.scene("surface_burst", t_end=1e-4)
+
+
+def test_a_run_that_would_end_before_its_scene_starts_is_refused():
+    started = dataclasses.replace(sedov_spherical(n_out=32), t_start=0.1, output=dataclasses.replace(
+        sedov_spherical(n_out=32).output, times=(0.2, 0.5)))
+    with pytest.raises(InputError, match=r"^t_end must be later than the time scene sedov_spherical starts at"):
+        partmesh.run(started, "fv", t_end=0.05, progress=False)
+
+
+def test_a_1d_wall_of_revolution_is_refused():
+    from partmesh.cases.parts import Wall
+
+    sphere = partmesh.scene("surface_burst_1d")
+    with pytest.raises(InputError, match="a target wall needs a planar scene in 1D"):
+        dataclasses.replace(sphere, wall=Wall("x_hi", 1e5, 1.0))

@@ -275,6 +275,15 @@ def test_round_off_on_a_quiet_baseline_does_not_start_the_positive_phase_early()
     assert ph["duration"] == pytest.approx(T + DT, abs=1e-9)
 
 
+def test_the_positive_phase_never_starts_before_the_sample_it_leaves_the_baseline_from():
+    """A sample a round-off above the baseline, then the rise: the start lies between the two samples."""
+    q = 1e-6 * 100.0
+    t = np.arange(8) * 1e-5
+    v = P0 + np.array([0.0, 0.5 * q, 0.95 * q, 1.02 * q, 100.0, 60.0, 20.0, -5.0])
+    ph = positive_phase(series(t, v), P0)
+    assert t[2] <= ph["start"] <= t[3]
+
+
 def test_positive_phase_truncated_series():
     t, v = friedlander()
     keep = t < TA + 0.5 * T

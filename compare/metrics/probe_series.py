@@ -74,8 +74,8 @@ def _phase(t, v, baseline, threshold_fraction):
     # start: the upward crossing of baseline just before the arrival (past the round-off of a quiet baseline)
     below_before = np.nonzero(~(v[:i] > baseline + QUIET * (float(v.max()) - baseline)))[0]
     if below_before.size:
-        j = int(below_before[-1])
-        start = t[j] + (baseline - v[j]) * (t[j + 1] - t[j]) / (v[j + 1] - v[j])
+        j = int(below_before[-1])  # (v[j] may lie a round-off above the baseline: the crossing stays in [t_j, t_j+1])
+        start = t[j] + min(max((baseline - v[j]) / (v[j + 1] - v[j]), 0.0), 1.0) * (t[j + 1] - t[j])
     else:
         j = -1
         start = float(t[0])

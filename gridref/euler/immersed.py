@@ -16,6 +16,14 @@ momentum flux of the Riemann problem between the cell's half-step state
 and its mirror image across the wall (a slip wall). No mass or energy
 crosses a wall.
 
+In the r–z plane of an axisymmetric run the faces are rings (areas
+``α a_f A_f``, volumes ``κ v`` with the ring factors of
+:mod:`partmesh.gridref.revolution`) and the wall vector closes the cell
+against the hoop source of its open part as well,
+``B/V = κ g e_r − Σ_f α_f a_f A_f n_f / V``; the wall's Riemann problem
+takes the wall's own normal (that of the planar closure). Redistribution
+and merging weigh every cell by its volume ``κ w`` (``w`` = 2π r_c).
+
 Small cells would limit the time step; flux redistribution keeps the
 regular cells' step. With the conservative divergence D^C = D/κ (D the
 right-hand side per full cell volume) and its κ-weighted average over the

@@ -14,6 +14,12 @@ transverse Riemann solves).
 Sums over directions are formed before they are applied, so the update is
 exactly symmetric under exchanging x and y on a square grid.
 
+In a geometry of revolution (``Scheme.radial`` = k, x the radius) the
+predictor adds the geometric terms ``−g ρ u_r`` and ``−g γ p u_r``, the
+radial faces' fluxes are weighted by their areas and their difference
+divided by the cell's volume, and the radial momentum gains the hoop
+source ``p^{n+1/2} g`` (:mod:`partmesh.gridref.revolution`).
+
 The step is a short pipeline of separately jitted kernels (ghost cells,
 slopes, predictor, one flux kernel per direction, update). Each kernel's
 outputs are materialised between kernels: as one program, XLA:CPU fuses the
@@ -66,7 +72,7 @@ def stable_dt(U, gamma, dx, cfl, fluid=None, radial=0):
     rate of a cell is raised by the ratio of its faces' mean area to its
     volume, ``max(1, (a_{i−1/2} + a_{i+1/2}) / (2 v_i))``
     (:mod:`partmesh.gridref.revolution`): 1.5 at a sphere's centre, where a
-    step of C = 0.8 is unstable, 1 in the first cell of a cylinder."""
+    step of C = 0.8 is unstable, and 1 in every cell of a cylinder (k = 1)."""
     W = primitive(U, gamma)
     c = sound_speed(W, gamma)
     rate = sum((jnp.abs(W[1 + d]) + c) * (1.0 / dx[d]) for d in range(len(dx)))
@@ -119,7 +125,8 @@ def slopes_of(Wg, scheme: Scheme):
 
 def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
     """``(W^{n+1/2}, ok)``: the predictor on the interior plus one ghost
-    layer, and the mask of cells whose face states are physical and
+    layer (with the geometric terms of a geometry of revolution), and the
+    mask of cells whose face states are physical and
     ``allowed`` (elsewhere ``W^{n+1/2} = W`` and the slopes are ignored: the
     cell is first order)."""
     gamma, dx = scheme.gamma, scheme.dx
@@ -289,7 +296,8 @@ class Stepper:
     times) and the vacuum floors (:func:`vacuum_floored`) as the last
     resort; ``dt_next`` is the CFL step of the new state, NaN if it is not
     physical even then. ``floors`` counts the cells the floors changed and
-    the mass and energy they added [kg and J, per metre depth in 2D].
+    the mass and energy they added [kg and J, per metre depth in a planar 2D
+    run, over the whole body in a geometry of revolution].
     :attr:`stretch` (:func:`partmesh.gridref.device_loop.device_loop`) runs it in one
     compiled loop; ``stepper(U, dt, t)`` is one step for a caller that
     steps on the host (the hybrid method).

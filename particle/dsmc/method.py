@@ -50,6 +50,7 @@ class DSMCSettings(Settings):
                            "rotational collision number, at least 1")
 
     def check_together(self, scene) -> None:
+        super().check_together(scene)
         if scene.obstacles and scene.dim != 2:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
         if self.collisions == "larsen-borgnakke" and self.mean_free_path is None:

@@ -53,6 +53,7 @@ class SPHSettings(SPHScheme):
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
 
     def check_together(self, scene) -> None:
+        super().check_together(scene)
         if self.masses == "lattice" and has_inlet(scene):
             raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
 

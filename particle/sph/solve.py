@@ -202,7 +202,7 @@ def _inflow_buffer(scene, P: Particles, eta: float):
     sides = [s for s in scene.sides if isinstance(scene.boundaries[s], Inflow)]
     if not sides:
         return None
-    rho_in = scene.boundaries[sides[0]].state(0.0)[0]
+    rho_in = scene.boundaries[sides[0]].state(scene.t_start)[0]
     depth = SUPPORT_GROWTH * max(P.H.max(), eta * (P.m[0] / rho_in) ** (1.0 / scene.dim)) * 1.5
     return InflowBuffer(scene, sides[0], P.m[0], depth)
 
