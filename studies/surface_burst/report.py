@@ -12,8 +12,9 @@ Reads every ``surface_burst`` and ``surface_burst_1d`` result in RUNS_FOLDER
 * ``peaks.png``: peak overpressure and positive impulse against scaled
   distance on log axes, the Kingery–Bulmash curves and every run;
 * ``histories.png``: overpressure at every gauge, every run overlaid;
-* ``schlieren.png``: a numerical schlieren of the r–z runs at an output time
-  when the front has crossed the middle gauges.
+* ``schlieren.png``: a numerical schlieren of the r–z runs (the quadrant's
+  lower left quarter) at 10 ms W^(1/3), the front between the gauges Z3
+  and Z5.
 
 The gauge values are measured anew from each run's probe series
 (:func:`partmesh.cases.charges.gauge_metrics`), so runs written before a
@@ -115,8 +116,10 @@ def schlieren_figure(runs: dict, path: Path, t: float) -> None:
     fig, axes = plt.subplots(1, len(planes), figsize=(4.5 * len(planes), 4.2), squeeze=False)
     for ax, (name, ds) in zip(axes[0], planes.items()):
         frame = ds["rho"].sel(time=t, method="nearest")
-        ax.pcolormesh(ds.x, ds.y, schlieren(frame), cmap="gray_r", shading="auto")
+        ax.pcolormesh(ds.x, ds.y, schlieren(frame), cmap="gray", shading="auto")
         ax.set_aspect("equal")
+        ax.set_xlim(0.0, 0.5 * float(ds.x[-1]))
+        ax.set_ylim(0.0, 0.5 * float(ds.y[-1]))
         ax.set_title(f"{name}\nt = {float(frame.time) * 1e3:.3g} ms", fontsize=8)
         ax.set_xlabel("r [m]")
         ax.set_ylabel("z [m]")
@@ -142,7 +145,7 @@ def main(argv=None) -> None:
     peaks_figure(df, args.out / "peaks.png")
     histories_figure(runs, args.out / "histories.png")
     W = charge(next(iter(runs.values())))[0]
-    schlieren_figure(runs, args.out / "schlieren.png", 5e-3 * W ** (1.0 / 3.0))
+    schlieren_figure(runs, args.out / "schlieren.png", 1e-2 * W ** (1.0 / 3.0))
     print(df.pivot_table(index="gauge", columns="run", values="peak_overpressure_ratio", sort=False).round(3))
 
 
