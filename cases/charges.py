@@ -105,11 +105,12 @@ def _balloon_pressure(gamma):
     return (gamma - 1.0) * TNT["density"] * TNT["energy"]
 
 
-def _gauges(W, t_end, p0):
-    """The ground gauges, the output times and probe interval of a charge of ``W`` kg."""
+def _gauges(W, t_end):
+    """The ground gauges, the output times (to ``t_end``) and the probe interval of a charge of ``W`` kg."""
     scale = W ** (1.0 / 3.0)
     probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0) for z in GAUGES)
-    return probes, tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2)) + (t_end,), 5e-6 * scale
+    times = tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2) if t * scale < t_end) + (t_end,)
+    return probes, times, 5e-6 * scale
 
 
 def gauge_metrics(ds, W: float, p0: float) -> dict:
@@ -157,8 +158,7 @@ def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=Non
                          / ((x + 0.5 * cell) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3), 0.0, 1.0)
         return (rho0 + inside * (TNT["density"] - rho0), 0.0, 0.0, p0 + inside * (p_c - p0))
 
-    probes, times, dt_probe = _gauges(W, t_end, p0)
-    times = tuple(t for t in times if t < t_end) + (t_end,)
+    probes, times, dt_probe = _gauges(W, t_end)
     return Scene(
         name="surface_burst_1d",
         parameters=dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, dx=dx),
@@ -190,8 +190,7 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
                                 f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((0.0, L), (0.0, L))
-    probes, times, dt_probe = _gauges(W, t_end, p0)
-    times = tuple(t for t in times if t < t_end) + (t_end,)
+    probes, times, dt_probe = _gauges(W, t_end)
     p_c = _balloon_pressure(gamma)
     sphere_volume = (4.0 / 3.0) * np.pi * r_c ** 3
 

@@ -51,10 +51,10 @@ class _Scenes:
         planar, per metre depth (its length); axisymmetric, the whole
         revolved side (a disc or annulus across the axis, a cylinder along it)."""
         i = self.sides.index(side)
-        (r_lo, r_hi), (z_lo, z_hi) = self.domain
         if getattr(self, "geometry", "planar") != "axisymmetric":
             lo, hi = self.domain[1 - i // 2]
             return hi - lo
+        (r_lo, r_hi), (z_lo, z_hi) = self.domain
         return 2.0 * np.pi * (r_lo if i == 0 else r_hi) * (z_hi - z_lo) if i < 2 else np.pi * (r_hi ** 2 - r_lo ** 2)
 
     def to_dict(self) -> dict:
