@@ -40,9 +40,10 @@ REMAP_CELLS = 25600
 
 
 def sedov_spherical(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_out=256, gamma=1.4):
-    """The Sedov–Taylor point blast as a sphere: one r–z quadrant (the axis
-    and the plane z = 0 symmetry walls, the far sides closed), the energy
-    ``E`` of the whole sphere deposited evenly over the ball of radius
+    """The Sedov–Taylor point blast as a sphere, in one r–z quadrant.
+
+    The axis and the plane z = 0 are symmetry walls and the far sides closed; the energy
+    ``E`` of the whole sphere is deposited evenly over the ball of radius
     ``max(r_init, 2 dx)`` (exactly, by each ring cell's share of it), so the
     quadrant holds E/2."""
     E, rho0, p0 = checks.positive("E", E), checks.positive("rho0", rho0), checks.positive("p0", p0)
@@ -141,8 +142,9 @@ def gauge_metrics(ds, W: float, p0: float) -> dict:
 
 
 def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=1600, dx=None):
-    """The surface burst of ``W`` kg TNT as the sphere it mirrors: a Brode
-    balloon of 2W kg in free air, in 1D (r from the centre to 16 W^(1/3) m,
+    """The surface burst of ``W`` kg TNT as the sphere it mirrors, in 1D.
+
+    A Brode balloon of 2W kg in free air (r from the centre to 16 W^(1/3) m,
     an open far end), with the ground gauges at their distances; ``n_out``
     output cells, ``dx`` the default cell size (the output cell when not
     given)."""
@@ -173,8 +175,9 @@ def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=Non
 
 
 def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=400, start="remap"):
-    """A hemispherical charge of ``W`` kg TNT on a rigid ground (z = 0) as a
-    Brode balloon, in r–z over [0, 16 W^(1/3)]² (the axis and the ground
+    """A hemispherical charge of ``W`` kg TNT on a rigid ground, in r–z.
+
+    The charge is a Brode balloon, over [0, 16 W^(1/3)]² (the axis and the ground
     reflect, the far sides are open), with ground gauges ``Z1`` … ``Z12``.
     ``start="remap"`` starts from the 1D spherical fv solution
     (:func:`surface_burst_1d`, 25 600 cells) remapped conserving mass and
