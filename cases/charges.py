@@ -37,6 +37,11 @@ EXTENT = 16.0
 T_REMAP = 2.5e-4
 #: the cells of the 1D run the r–z grid starts from, across the extent
 REMAP_CELLS = 25600
+#: the default end time, in scaled time [s/kg^(1/3)]: the gauge Z12's positive phase has ended
+T_END = 36e-3
+#: what :func:`gauge_metrics` measures at every gauge
+GAUGE_QUANTITIES = ("peak_overpressure", "peak_overpressure_fitted", "arrival_time", "positive_duration",
+                    "positive_impulse")
 
 
 def sedov_spherical(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width=1.0, n_out=256, gamma=1.4):
@@ -93,12 +98,14 @@ def sphere_front(ds, exact_radius: float, sectors: int = 9) -> dict:
             "shock_radius_spread": (max(per_sector) - min(per_sector)) / float(np.mean(per_sector))}
 
 
-def _charge(W, rho0, p0, gamma):
-    """The checked charge and air, and the charge's hemisphere radius."""
+def _charge(W, rho0, p0, gamma, t_end):
+    """The checked charge, air and end time (default :data:`T_END` W^(1/3)),
+    and the charge's hemisphere radius."""
     W = checks.in_range("W", W, 1e-3, 1e6)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
-    return W, rho0, p0, gamma, (3.0 * W / (2.0 * np.pi * TNT["density"])) ** (1.0 / 3.0)
+    t_end = T_END * W ** (1.0 / 3.0) if t_end is None else checks.positive("t_end", t_end)
+    return W, rho0, p0, gamma, t_end, (3.0 * W / (2.0 * np.pi * TNT["density"])) ** (1.0 / 3.0)
 
 
 def _balloon_pressure(gamma):
@@ -132,8 +139,7 @@ def gauge_metrics(ds, W: float, p0: float) -> dict:
                         "arrival_time": peak["arrival"], "positive_duration": phase["duration"],
                         "positive_impulse": phase["impulse"]}
         except ValueError:
-            measured = dict.fromkeys(("peak_overpressure", "peak_overpressure_fitted", "arrival_time",
-                                      "positive_duration", "positive_impulse"), float("nan"))
+            measured = dict.fromkeys(GAUGE_QUANTITIES, float("nan"))
         reference = {"peak_overpressure": kb.incident_overpressure, "arrival_time": kb.arrival_time,
                      "positive_duration": kb.positive_duration, "positive_impulse": kb.incident_impulse}
         out.update({f"{name}_{q}": v for q, v in measured.items()})
@@ -148,9 +154,8 @@ def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=Non
     an open far end), with the ground gauges at their distances; ``n_out``
     output cells, ``dx`` the default cell size (the output cell when not
     given)."""
-    W, rho0, p0, gamma, r_c = _charge(W, rho0, p0, gamma)
+    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end)
     L = EXTENT * W ** (1.0 / 3.0)
-    t_end = 36e-3 * W ** (1.0 / 3.0) if t_end is None else checks.positive("t_end", t_end)
     n_out = checks.integer("n_out", n_out, 16)
     dx = L / n_out if dx is None else checks.positive("dx", dx)
     p_c = _balloon_pressure(gamma)
@@ -183,11 +188,10 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     (:func:`surface_burst_1d`, 25 600 cells) remapped conserving mass and
     energy at t = 0.25 ms W^(1/3), the shock then at Z ≈ 0.7; ``"balloon"``
     starts from the balloon itself at t = 0 (a few cells across on this grid)."""
-    W, rho0, p0, gamma, r_c = _charge(W, rho0, p0, gamma)
+    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end)
     checks.choice("start", start, ("remap", "balloon"))
     scale = W ** (1.0 / 3.0)
     L = EXTENT * scale
-    t_end = 36e-3 * scale if t_end is None else checks.positive("t_end", t_end)
     if start == "remap" and not t_end > T_REMAP * scale:
         raise checks.InputError(f"t_end must be later than {T_REMAP * scale:g} s, when a surface burst of W = {W:g} kg "
                                 f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")

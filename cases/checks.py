@@ -48,7 +48,7 @@ def check_scene(scene) -> None:
         raise InputError(f"scene {scene.name}: output times must increase strictly within [t_start={t0:g}, "
                          f"t_end={scene.t_end:g}], got {list(times)}.")
     for probe in scene.probes:
-        if getattr(scene, "geometry", "planar") != "planar" and probe.x < 0.0:
+        if scene.geometry != "planar" and probe.x < 0.0:
             raise InputError(f"probe {probe.name!r} of scene {scene.name} lies at r = {probe.x:g} m; in an "
                              f"{scene.geometry} scene the radius r (x) must be >= 0.")
         inside = all(lo <= c <= hi for c, (lo, hi) in zip((probe.x, probe.y), scene.domain))

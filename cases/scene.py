@@ -51,7 +51,7 @@ class _Scenes:
         planar, per metre depth (its length); axisymmetric, the whole
         revolved side (a disc or annulus across the axis, a cylinder along it)."""
         i = self.sides.index(side)
-        if getattr(self, "geometry", "planar") != "axisymmetric":
+        if self.geometry != "axisymmetric":
             lo, hi = self.domain[1 - i // 2]
             return hi - lo
         (r_lo, r_hi), (z_lo, z_hi) = self.domain

@@ -34,13 +34,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from partmesh.cases.charges import gauge_metrics  # noqa: E402
+from partmesh.cases.charges import GAUGE_QUANTITIES, gauge_metrics  # noqa: E402
 from partmesh.compare.exact.kingery_bulmash import scaled_value  # noqa: E402
 from partmesh.compare.io import read  # noqa: E402
 from partmesh.compare.metrics import schlieren  # noqa: E402
-
-QUANTITIES = ("peak_overpressure", "peak_overpressure_fitted", "arrival_time", "positive_duration",
-              "positive_impulse")
 
 
 def label(ds) -> str:
@@ -64,7 +61,7 @@ def table(runs: dict) -> pd.DataFrame:
             row = {"run": name, "method": ds.attrs["method"], "geometry": ds.attrs["geometry"], "dx": ds.attrs["dx"],
                    "cells": ds.attrs["n_elements"], "wall_seconds": ds.attrs["wall_seconds"], "gauge": gauge,
                    "Z": x / W ** (1.0 / 3.0)}
-            for q in QUANTITIES:
+            for q in GAUGE_QUANTITIES:
                 row[q] = values[f"{gauge}_{q}"]
                 kb = values[f"{gauge}_{q.replace('_fitted', '')}_kb"]
                 row[f"{q}_kb"], row[f"{q}_ratio"] = kb, row[q] / kb
