@@ -14,7 +14,8 @@ from partmesh.compare.checks import InputError
 from partmesh.particle.kernels import KERNELS
 
 #: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
-#: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take)
+#: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take, and the
+#: ring masses of an axisymmetric scene)
 MASSES = ("equal", "lattice")
 
 
@@ -44,16 +45,27 @@ class SPHSettings(SPHScheme):
     the densest gas (``masses="equal"``) or everywhere (``masses="lattice"``:
     the square lattice, masses ρ dx^d), ``cfl`` the step's Courant number
     (Δt = C min h/v_sig), the scheme's settings (:class:`SPHScheme`), and
-    ``particles``, a file to write the last state's particles to (SPEC §2)."""
+    ``particles``, a file to write the last state's particles to (SPEC §2).
+    ``masses`` left None is ``"equal"`` in a planar scene and ``"lattice"``
+    in an axisymmetric one, where ring masses on a lattice are the only
+    placement."""
 
     method: ClassVar[str] = "sph"
 
     cfl: float = setting(0.25, within(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
-    masses: str = setting("equal", one_of(MASSES), "initial particle masses")
+    masses: str | None = setting(None, one_of(MASSES), "initial particle masses (None: equal, lattice in r-z)")
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
+
+    def scene_defaults(self, scene) -> dict:
+        axisymmetric = scene.geometry == "axisymmetric"
+        return {**super().scene_defaults(scene),
+                "masses": ("lattice" if axisymmetric else "equal") if self.masses is None else self.masses}
 
     def check_together(self, scene) -> None:
         super().check_together(scene)
+        if self.masses == "equal" and scene.geometry == "axisymmetric":
+            raise InputError(f"masses='equal' runs planar scenes; {scene.name} is axisymmetric, where sph places "
+                             "ring masses on the lattice (masses='lattice').")
         if self.masses == "lattice" and has_inlet(scene):
             raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
 
@@ -63,4 +75,5 @@ def memory(scene, settings: SPHSettings) -> Memory:
                   "particles")
 
 
-METHOD = Method("sph", "gas", SPHSettings, memory, "partmesh.particle.sph.solve:solve")
+METHOD = Method("sph", "gas", SPHSettings, memory, "partmesh.particle.sph.solve:solve",
+                geometries=("planar", "axisymmetric"))

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from partmesh.cases.ball import ring_volumes
 from partmesh.cases.errors import InputError, Unsupported
 from partmesh.cases.scene import Inflow
 from partmesh.particle.sph.wall_placement import off_surface
@@ -107,9 +108,11 @@ def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
 def place_lattice(scene, dx: float, box) -> tuple[np.ndarray, np.ndarray]:
     """Particles on the square lattice of spacing ``dx`` over ``box`` (outside
     the obstacles, moved off their surfaces as in :func:`place_2d`), each of
-    mass ρ dx^d with the scene's initial density at its point: unequal
-    masses where the density varies, for contrasts the equal-mass
-    placements do not take."""
+    mass ρ dx^d with the scene's initial density at its point (the density
+    of the cell of side ``dx`` about it): unequal masses where the density
+    varies, for contrasts the equal-mass placements do not take. In an
+    axisymmetric scene the masses are those of the ring cells, ρ 2π r dx²
+    (:func:`partmesh.cases.ball.ring_volumes`)."""
     axes = [lo + (np.arange(int(round((hi - lo) / dx))) + 0.5) * dx for lo, hi in box]
     x = np.stack([a.ravel() for a in np.meshgrid(*axes)], axis=1)
     for shape in scene.obstacles:
@@ -118,7 +121,7 @@ def place_lattice(scene, dx: float, box) -> tuple[np.ndarray, np.ndarray]:
         x = off_surface(scene.obstacles, x, 0.5 * dx)
     rho = np.broadcast_to(np.asarray(scene.initial(x[:, 0], x[:, 1] if scene.dim == 2 else None, dx)[0], float),
                           x[:, 0].shape)
-    return x, rho * dx ** scene.dim
+    return x, rho * (ring_volumes(x[:, 0], dx) if scene.geometry == "axisymmetric" else dx ** scene.dim)
 
 
 def _rows(scene, dx: float, box, ny: int) -> tuple[np.ndarray, float]:

@@ -7,7 +7,10 @@ with Cullen–Dehnen viscosity and artificial conduction
 (:mod:`~partmesh.particle.sph.forces`), the walls' virtual particles, the
 reused neighbour lists, and Shepard interpolation onto a grid (Price 2012,
 J. Comput. Phys. 231, 759; Prasanna Kumar, Patnaik & Ramamurthi 2018,
-Phys. Fluids 30, 046105). The method ``sph`` (:mod:`~partmesh.particle.sph.solve`)
+Phys. Fluids 30, 046105). In an axisymmetric scene the particles carry
+ring masses and the same sums give η, the mass per area of the r–z plane,
+with the axis factors and hoop terms of :mod:`~partmesh.particle.sph.axis`
+(García-Senz et al. 2009). The method ``sph`` (:mod:`~partmesh.particle.sph.solve`)
 and the particles of ``hybrid`` both step it."""
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import numpy as np
 
 from partmesh.particle import kernels
 from partmesh.particle.neighbours import neighbour_lists, padded
+from partmesh.particle.sph.axis import axis_density, axis_factors
 from partmesh.particle.sph.density import density_and_support
 from partmesh.particle.sph.forces import rates
 from partmesh.particle.sph.integrator import SEARCH_SLACK
@@ -37,8 +41,10 @@ MIN_SUPPORT = 1e-3
 @dataclass
 class Particles(PerParticle):
     """The fluid particles of a run (ghosts are rebuilt every evaluation);
-    ``rho`` is the density of the last evaluation, which the walls'
-    virtual particles are extrapolated from."""
+    ``rho`` is the summation density of the last evaluation, which the
+    walls' virtual particles are extrapolated from. In an axisymmetric
+    scene ``m`` are ring masses and ``rho`` is η, the mass per area of the
+    r–z plane (:meth:`GasSPH.gas_density` gives ρ)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -62,7 +68,8 @@ class Particles(PerParticle):
 
 @dataclass
 class Evaluation(PerParticle):
-    """Everything computed from one particle state (fluid particles only)."""
+    """Everything computed from one particle state (fluid particles only);
+    ``rho`` as in :class:`Particles`, ``div_v`` the gas's ∇·v."""
 
     rho: np.ndarray
     H: np.ndarray
@@ -86,6 +93,7 @@ class GasSPH:
         self.force_interactions = 0
         self.kind = kernels.KERNELS[kernel]
         self.dim = scene.dim
+        self.axisymmetric = scene.geometry == "axisymmetric"
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
         self.periodic = np.array(scene.periodic)
@@ -139,7 +147,9 @@ class GasSPH:
                 lists = self.verlet.search(x_real, v_real, H_real, n, slack, growth)
                 slack *= 1.4  # for the next search, if a solution reaches the edge of these lists
             src, offsets, index = lists.src, lists.offsets, lists.index
-            m = np.concatenate([m_real, m_real[src]])
+            # a ghost's ring mass (and η, P) is its source's at the ghost's own radius (axis.py)
+            ring = self.ghost_rings(x_real, lists) if self.axisymmetric else None
+            m = np.concatenate([m_real, m_real[src] if ring is None else m_real[src] * ring])
             X3 = padded(lists.x)
             t0 = _time.perf_counter()
             rho, H, omega, converged = density_and_support(X3, self.verlet.box, self.verlet.half, m,
@@ -161,17 +171,42 @@ class GasSPH:
                                                     (u, bu), (P.alpha, np.zeros(bx.shape[0])),
                                                     (P.alpha_u, np.zeros(bx.shape[0])))]
         rho_all, H_all, omega_all, u_all, alpha_all, alpha_u_all = (np.concatenate([a, a[src]]) for a in real)
+        if ring is not None:
+            rho_all[x_real.shape[0]:] *= ring
         p = (gamma - 1.0) * rho_all * u_all
         with np.errstate(invalid="ignore"):  # a negative energy: NaN rates, which the step reports with where
-            c = np.sqrt(gamma * p / rho_all)
+            if self.axisymmetric:  # P = (γ − 1) η u, times Φ (axis.py)
+                axis = axis_factors(x_real[:, 0], real[1], self.kind)
+                p *= np.concatenate([axis.grad_h, axis.grad_h[src]])
+                c = np.sqrt(gamma * (gamma - 1.0) * u_all)
+            else:
+                c = np.sqrt(gamma * p / rho_all)
         t0 = _time.perf_counter()
         *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, lists.v, m, u_all, rho_all, p, c,
                                        omega_all, H_all, alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
                                        numba.get_num_threads())
         E = Evaluation(rho, H, *derived)
+        if self.axisymmetric:
+            _add_hoop_terms(E, axis, v[:, 0], u, gamma)
         self.seconds["forces"] += _time.perf_counter() - t0
         self.force_interactions += int(interactions)
         return E
+
+    @staticmethod
+    def ghost_rings(x_real, lists) -> np.ndarray:
+        """The ratio of each mirror ghost's radius to its source's, |r_g|/r_s:
+        1 across the axis and along r, r_g/r_s beyond an outer side, where a
+        ghost stands for the ring at its own radius so that a uniform gas
+        stays uniform up to the wall (1 for a source on the axis itself)."""
+        r_src = x_real[lists.src, 0]
+        r_ghost = np.abs(lists.x[x_real.shape[0]:, 0])
+        return np.divide(r_ghost, r_src, out=np.ones_like(r_src), where=r_src > 0.0)
+
+    def gas_density(self, x, H, rho) -> np.ndarray:
+        """The gas density ρ of particles at ``x`` with support ``H`` and
+        summation density ``rho``: ``rho`` itself in a planar scene, η/(2π r̃)
+        in an axisymmetric one (:func:`~partmesh.particle.sph.axis.axis_density`)."""
+        return axis_density(rho, x[:, 0], H, self.kind) if self.axisymmetric else rho
 
     def compile_rest(self, P: Particles, E: Evaluation) -> None:
         """Compile (or load) the kernels a run meets after its first
@@ -197,3 +232,15 @@ class GasSPH:
                                 bool(self.periodic[0]), self.dim == 2 and bool(self.periodic[1]), self.kind,
                                 self.dim, MIN_SUPPORT)
         return grids if self.dim == 2 else grids[:, 0]
+
+
+def _add_hoop_terms(E: Evaluation, axis, v_r, u, gamma: float) -> None:
+    """Add to the planar rates ``E`` of η and ΦP what the axis adds
+    (:mod:`~partmesh.particle.sph.axis`): the hoop acceleration (γ − 1) u r̃'/r̃
+    along r, its work −(γ − 1) u r̃' v_r/r̃ in du/dt, and ∇·v = Φ ∇₂·v + r̃' v_r/r̃
+    (the first ``len(u)`` entries of ``axis`` are the fluid particles')."""
+    n = u.shape[0]
+    hoop = (gamma - 1.0) * u * axis.slope[:n] / axis.radius[:n]
+    E.dvdt[:, 0] += hoop
+    E.dudt -= hoop * v_r
+    E.div_v = axis.grad_h[:n] * E.div_v + axis.slope[:n] * v_r / axis.radius[:n]

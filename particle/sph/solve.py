@@ -1,6 +1,8 @@
 """Gas SPH (method ``sph``): run a scene, return a schema Dataset on the
 scene's output grid (Prasanna Kumar, Patnaik & Ramamurthi 2018, Phys.
-Fluids 30, 046105; Price 2012, J. Comput. Phys. 231, 759).
+Fluids 30, 046105; Price 2012, J. Comput. Phys. 231, 759), planar or
+axisymmetric (ring masses, :mod:`partmesh.particle.sph.axis`; García-Senz
+et al. 2009, MNRAS 392, 346).
 
 Time integration is the predictor–corrector leapfrog of
 :mod:`partmesh.particle.sph.integrator` with Δt = C min_i h_i / v_sig,i, h = H/2, C = 0.25.
@@ -146,6 +148,7 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
     if inflow is not None:
         groups.append((*_buffer(inflow, t, sph.eta, P.m[0]), KINDS["buffer"]))
     x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
+    rho = sph.gas_density(x, H, rho)
     kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
     return particle_snapshot(x, v, rho, (gamma - 1.0) * rho * u, m, H, kind, KINDS, sph.scene.name, "sph", t)
 
@@ -153,7 +156,8 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
 def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Particles:
     """Particles over ``box`` (the domain extended beyond outflow sides) with
     the scene's initial state: equal masses, or on the lattice of spacing
-    ``dx`` with masses ρ dx^d (``masses="lattice"``)."""
+    ``dx`` with masses ρ dx^d (``masses="lattice"``; ring masses ρ 2π r dx²
+    in an axisymmetric scene, whose summation density η starts at m/dx²)."""
     gamma, dim = scene.gamma, scene.dim
     if masses == "lattice":
         x, mass = place_lattice(scene, dx, box)
@@ -162,9 +166,10 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
                       for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
     n = x.shape[0]
+    summed = mass / dx ** 2 if scene.geometry == "axisymmetric" else rho
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.broadcast_to(mass, n).copy(),
-                     H=eta * (mass / rho) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
-                     rho=rho)
+                     H=eta * (mass / summed) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
+                     rho=summed)
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
@@ -221,18 +226,18 @@ def _sample_points(scene) -> np.ndarray:
 
 def _pressure_at(sph, P, E, points) -> np.ndarray:
     """Pressure interpolated at ``points`` (n_points, dim)."""
-    p = (sph.scene.gamma - 1.0) * E.rho * P.u
+    p = (sph.scene.gamma - 1.0) * sph.gas_density(P.x, E.H, E.rho) * P.u
     return shepard_at_points(points, P.x, p, P.m / E.rho, E.H, sph.kind, sph.dim, numba.get_num_threads())
 
 
 def _side_forces(scene, sampled) -> np.ndarray:
     """Pressure force on every side from the pressure sampled at its
-    midpoint (per square metre in 1D, times the side length in 2D)."""
+    midpoint (per square metre in 1D, times the side's area in 2D: its
+    length per metre depth, or the whole revolved side in r–z)."""
     walls = sampled[len(scene.probes):]
     if scene.dim == 1:
         return walls
-    lengths = [scene.domain[1 - d // 2][1] - scene.domain[1 - d // 2][0] for d in range(4)]
-    return walls * np.asarray(lengths)
+    return walls * np.asarray([scene.side_area(side) for side in scene.sides])
 
 
 class _Run(RunRecord):
@@ -259,7 +264,8 @@ class _Run(RunRecord):
     def fields(self, state) -> dict:
         P, E = state
         scene = self.scene
-        values = {"rho": E.rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * E.rho * P.u, "e": P.u}
+        rho = self.sph.gas_density(P.x, E.H, E.rho)
+        values = {"rho": rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * rho * P.u, "e": P.u}
         if scene.dim == 2:
             values["v"] = P.v[:, 1]
         axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
@@ -275,7 +281,10 @@ class _Run(RunRecord):
         scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
                   f"(alpha_max {s['alpha_max']:g}), artificial conduction with its switch (alpha_u_max {s['alpha_u']:g}), "
                   "predictor-corrector leapfrog, mirror-particle plane walls"
-                  + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else ""))
+                  + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else "")
+                  + (", axisymmetric: ring masses on the r-z lattice, mirror ghosts across the axis, the density "
+                     "eta / (2 pi (r + 2 H J(r/H))) near it and the hoop terms (Garcia-Senz et al. 2009)"
+                     if self.sph.axisymmetric else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],
