@@ -83,16 +83,17 @@ def sedov_spherical(E=1.0, rho0=1.0, p0=1e-5, t_end=0.5, r_init=0.03, half_width
 
 def sphere_front(ds, exact_radius: float, sectors: int = 9) -> dict:
     """The radius of a spherical front centred at the origin of an r–z
-    result at its final time: over the whole quadrant (the threshold crossing of the density averaged over
-    the cells of each ring of radius, :func:`partmesh.compare.metrics.shock_radius`),
+    result at its final time: over the whole quadrant (the outermost half-height crossing of the density
+    averaged over the cells of each ring of radius, :func:`partmesh.compare.metrics.shock_radius` with
+    ``method="threshold"``, which the scatter of a particle method's ambient gas does not reach),
     and per polar-angle sector of ``90°/sectors``, whose spread
     (max − min over the mean) says how spherical the front is."""
     rho = ds["rho"].isel(time=-1)
     angle = np.degrees(np.arctan2(ds.x, ds.y))  # from the axis
     edges = np.linspace(0.0, 90.0, sectors + 1)
-    per_sector = [metrics.shock_radius(rho.where((angle >= lo) & (angle < hi)), method="front")
+    per_sector = [metrics.shock_radius(rho.where((angle >= lo) & (angle < hi)), method="threshold")
                   for lo, hi in zip(edges[:-1], edges[1:])]
-    radius = metrics.shock_radius(rho, method="front")
+    radius = metrics.shock_radius(rho, method="threshold")
     return {"shock_radius": radius, "shock_radius_exact": exact_radius,
             "shock_radius_error": radius / exact_radius - 1.0,
             "shock_radius_spread": (max(per_sector) - min(per_sector)) / float(np.mean(per_sector))}

@@ -53,30 +53,43 @@ def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
         U0, U1, U2 = p0 / N, p1 / N, p2 / N
         thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
         # the draw c (3 normals per particle) and ε, written in place of v and e
-        state = stream(seed, step, cell)
-        m0 = m1 = m2 = 0.0
-        squares = 0.0
-        for i in range(a, b):
-            state, z0 = normal(state)
-            state, z1 = normal(state)
-            state, z2 = normal(state)
-            v[i, 0], v[i, 1], v[i, 2] = z0, z1, z2
-            m0 += z0
-            m1 += z1
-            m2 += z2
-            squares += z0 * z0 + z1 * z1 + z2 * z2
-            if zeta > 0.0:
-                state, eps = gamma(state, 0.5 * zeta)
-                e[i] = eps
-                squares += 2.0 * eps
-        m0, m1, m2 = m0 / N, m1 / N, m2 / N
-        # ½ Σ |c_i − c̄|² + Σ ε_i
-        drawn = 0.5 * (squares - N * (m0 * m0 + m1 * m1 + m2 * m2))
-        s2 = max(thermal, 0.0) / drawn
-        s = np.sqrt(s2)
-        for i in range(a, b):
-            v[i, 0] = U0 + s * (v[i, 0] - m0)
-            v[i, 1] = U1 + s * (v[i, 1] - m1)
-            v[i, 2] = U2 + s * (v[i, 2] - m2)
-            if zeta > 0.0:
-                e[i] = s2 * e[i]
+        state, m0, m1, m2, drawn = drawn_deviations(stream(seed, step, cell), v, e, a, b, zeta)
+        set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / drawn, zeta)
+
+
+@numba.njit(cache=True, inline="always")
+def drawn_deviations(state, v, e, a, b, zeta):
+    """Draw into rows ``a:b`` of ``v`` three standard normals c_i each and,
+    if ``zeta`` > 0, into ``e`` ε_i ~ Gamma(ζ/2, 1); returns ``(state, c̄₀,
+    c̄₁, c̄₂, ½ Σ |c_i − c̄|² + Σ ε_i)``."""
+    N = b - a
+    m0 = m1 = m2 = 0.0
+    squares = 0.0
+    for i in range(a, b):
+        state, z0 = normal(state)
+        state, z1 = normal(state)
+        state, z2 = normal(state)
+        v[i, 0], v[i, 1], v[i, 2] = z0, z1, z2
+        m0 += z0
+        m1 += z1
+        m2 += z2
+        squares += z0 * z0 + z1 * z1 + z2 * z2
+        if zeta > 0.0:
+            state, eps = gamma(state, 0.5 * zeta)
+            e[i] = eps
+            squares += 2.0 * eps
+    m0, m1, m2 = m0 / N, m1 / N, m2 / N
+    return state, m0, m1, m2, 0.5 * (squares - N * (m0 * m0 + m1 * m1 + m2 * m2))
+
+
+@numba.njit(cache=True, inline="always")
+def set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, s2, zeta):
+    """Rows ``a:b`` of the draw (:func:`drawn_deviations`, mean ``m``) moved
+    to ``v_i = U + s (c_i − c̄)`` and ``e_i = s² ε_i``."""
+    s = np.sqrt(s2)
+    for i in range(a, b):
+        v[i, 0] = U0 + s * (v[i, 0] - m0)
+        v[i, 1] = U1 + s * (v[i, 1] - m1)
+        v[i, 2] = U2 + s * (v[i, 2] - m2)
+        if zeta > 0.0:
+            e[i] = s2 * e[i]

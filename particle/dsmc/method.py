@@ -33,7 +33,9 @@ class DSMCSettings(Settings):
     than 0.5 does (L1 1.6e-2 against 1.8e-2, 30 particles per cell x 16
     ensembles). ``collisions="larsen-borgnakke"`` needs ``mean_free_path``
     [m] at the lowest initial density; ``omega`` (VHS viscosity exponent)
-    and ``z_rot`` (rotational collision number) apply to it."""
+    and ``z_rot`` (rotational collision number) apply to it. In an
+    axisymmetric scene ``ppc`` is the count of every ring cell of the
+    lowest initial density (radial weights)."""
 
     method: ClassVar[str] = "dsmc"
 
@@ -53,6 +55,12 @@ class DSMCSettings(Settings):
         super().check_together(scene)
         if scene.obstacles and scene.dim != 2:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
+        if scene.geometry == "axisymmetric" and scene.obstacles:
+            raise Unsupported(f"scene {scene.name}: dsmc models obstacles in planar scenes only (a molecule's "
+                              "straight flight is a curve in the r-z plane).")
+        if scene.geometry == "axisymmetric" and self.collisions != "equilibrium":
+            raise Unsupported(f"scene {scene.name}: dsmc runs axisymmetric scenes with collisions='equilibrium' only "
+                              "(the redraw resamples the radial weights).")
         if self.collisions == "larsen-borgnakke" and self.mean_free_path is None:
             raise InputError("collisions='larsen-borgnakke' needs mean_free_path, the mean free path [m] > 0 at the "
                              "scene's lowest initial density.")
@@ -75,4 +83,5 @@ def memory(scene, settings: DSMCSettings) -> Memory:
                   "dx or lower ppc")
 
 
-METHOD = Method("dsmc", "gas", DSMCSettings, memory, "partmesh.particle.dsmc.solve:solve", takes_seed=True)
+METHOD = Method("dsmc", "gas", DSMCSettings, memory, "partmesh.particle.dsmc.solve:solve", takes_seed=True,
+                geometries=("planar", "axisymmetric"))

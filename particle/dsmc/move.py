@@ -17,15 +17,15 @@ REFLECT, PERIODIC, OPEN = 0, 1, 2
 
 
 @numba.njit(parallel=True, cache=True)
-def free_flight(x, v, dt, lo, hi, sides):
+def free_flight(x, v, dt, lo, hi, sides, w=None):
     """Move particles ``x`` (n, dim) with velocities ``v`` (n, 3) for ``dt``,
     in place, in the box ``[lo, hi]``; ``sides`` (2·dim,) holds REFLECT,
     PERIODIC or OPEN for x_lo, x_hi, y_lo, y_hi.
 
     Returns ``(gone, delivered)``: the particles that left through an open
     side, and per side the momentum per unit particle mass handed to it
-    (Σ 2 |v_n| over the bounces; a force once multiplied by the particle
-    mass and divided by dt)."""
+    (Σ 2 |v_n| over the bounces, each times the particle's weight ``w`` if
+    given; a force once multiplied by the particle mass and divided by dt)."""
     n, dim = x.shape
     gone = np.zeros(n, dtype=np.bool_)
     delivered = np.zeros(2 * dim)
@@ -44,7 +44,7 @@ def free_flight(x, v, dt, lo, hi, sides):
                 if xa < lo_a:
                     if kind_lo == REFLECT:
                         xa = 2.0 * lo_a - xa
-                        to_lo += 2.0 * abs(va)
+                        to_lo += 2.0 * abs(va) * (1.0 if w is None else w[i])
                         va = -va
                     elif kind_lo == PERIODIC:
                         xa += width
@@ -54,7 +54,7 @@ def free_flight(x, v, dt, lo, hi, sides):
                 else:
                     if kind_hi == REFLECT:
                         xa = 2.0 * hi_a - xa
-                        to_hi += 2.0 * abs(va)
+                        to_hi += 2.0 * abs(va) * (1.0 if w is None else w[i])
                         va = -va
                     elif kind_hi == PERIODIC:
                         xa -= width

@@ -8,6 +8,9 @@ a time window (and over ensembles), give the state
 
 K the number of samples, m the particle mass, V the cell volume (the
 cumulative-sampling estimate: averages of sums, not of per-sample states).
+Weighted particles (r–z, :mod:`~partmesh.particle.dsmc.axisymmetric`) count
+by their weights: S0 = Σ w, S1 = Σ w v, S2 = Σ w (½|v|² + e), and V is the
+ring cell's volume 2π r_c Δr Δz.
 The bulk velocity along the axes the problem does not resolve (z, and y in
 1D) is only scatter about zero, so its energy counts as thermal: the
 schema's ρ(e + ½|u|²) summed over the cells is the particles' energy.
@@ -23,14 +26,18 @@ from partmesh.particle.dsmc.cells import cell_index
 class CellSums:
     """Running sums S0, S1, S2 per cell of a uniform grid over K samples;
     ``fraction`` (grid-shaped, (ny, nx) in 2D) is the part of each cell's
-    volume open to the gas (1 without obstacles; 0: a solid cell, NaN state)."""
+    volume open to the gas (1 without obstacles; 0: a solid cell, NaN state);
+    ``radial``: the cells are rings about the axis x = 0 (2D)."""
 
-    def __init__(self, lo, spacing, shape, fraction=None):
+    def __init__(self, lo, spacing, shape, fraction=None, radial=False):
         self.lo, self.spacing, self.shape = np.asarray(lo, float), np.asarray(spacing, float), tuple(shape)
         self.ncell = int(np.prod(self.shape))
         self.shape_array = np.array(self.shape, dtype=np.int64)
         volume = float(np.prod(self.spacing))
         self.volume = volume * (np.ones(self.ncell) if fraction is None else np.asarray(fraction, float).reshape(-1))
+        if radial:
+            r = self.lo[0] + (np.arange(self.shape[0]) + 0.5) * self.spacing[0]
+            self.volume *= np.tile(2.0 * np.pi * r, self.ncell // self.shape[0])
         self.reset()
 
     def reset(self):
@@ -39,13 +46,14 @@ class CellSums:
         self.s1 = np.zeros((self.ncell, 3))
         self.s2 = np.zeros(self.ncell)
 
-    def add(self, x, v, e):
-        """Add one sample of the particles ``(x, v, e)``."""
+    def add(self, x, v, e, w=None):
+        """Add one sample of the particles ``(x, v, e)``, of weights ``w`` if given."""
         cell = cell_index(x, self.lo, self.spacing, self.shape_array)
-        self.s0 += np.bincount(cell, minlength=self.ncell)
+        self.s0 += np.bincount(cell, w, minlength=self.ncell)
         for a in range(3):
-            self.s1[:, a] += np.bincount(cell, v[:, a], minlength=self.ncell)
-        self.s2 += np.bincount(cell, 0.5 * np.einsum("ij,ij->i", v, v) + e, minlength=self.ncell)
+            self.s1[:, a] += np.bincount(cell, v[:, a] if w is None else w * v[:, a], minlength=self.ncell)
+        heat = 0.5 * np.einsum("ij,ij->i", v, v) + e
+        self.s2 += np.bincount(cell, heat if w is None else w * heat, minlength=self.ncell)
         self.samples += 1
 
     def same_grid(self, other: "CellSums") -> bool:

@@ -23,6 +23,11 @@ Obstacles are the scene's shapes as convex polygons, reflecting specularly
 open to the gas. Particles stand for equal masses: ``ppc`` particles per
 cell in the lowest-density initial state. Output fields are the cumulative
 moments of the last ``window`` steps before each output time.
+
+In an axisymmetric scene the particles fly in 3D and are rotated back into
+the r–z plane, and carry radial weights that the redraw resamples to an
+even count per ring cell (:mod:`partmesh.particle.dsmc.axisymmetric`);
+``ppc`` is then the count per cell of the lowest initial density.
 """
 
 from __future__ import annotations
@@ -38,6 +43,7 @@ from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import landed
 from partmesh.cases.scene import Inflow
 from partmesh.cases.shape_factories import square
+from partmesh.particle.dsmc.axisymmetric import fill_factor, radial_flight, resampled_redraw, ring_weights
 from partmesh.particle.dsmc.cells import cell_index, sort_into_cells
 from partmesh.particle.dsmc.collide import collide
 from partmesh.particle.dsmc.equilibrate import equilibrate
@@ -75,7 +81,7 @@ def solve(scene, settings: DSMCSettings):
     one)."""
     zeta = internal_degrees(scene.gamma)
     t0 = _time.perf_counter()
-    _compile_kernels(scene.dim, zeta, settings.collisions)
+    _compile_kernels(scene.dim, zeta, settings.collisions, scene.geometry == "axisymmetric")
     compile_seconds = _time.perf_counter() - t0
     gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed)
     if settings.collisions == "larsen-borgnakke":
@@ -119,7 +125,7 @@ def landing_step(dt_max: float, left: float) -> float:
     return 0.5 * left if left < 2.0 * dt_max else dt_max
 
 
-def _compile_kernels(dim, zeta, collisions):
+def _compile_kernels(dim, zeta, collisions, radial=False):
     """Compile (or load from the cache) the numba kernels of a step, on two
     particles, so that the run's time excludes it."""
     x, v, e = np.full((2, dim), 0.5), np.zeros((2, 3)), np.zeros(2)
@@ -127,6 +133,11 @@ def _compile_kernels(dim, zeta, collisions):
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
     start = sort_into_cells(x, v, e, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(), e.copy())
     equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
+    if radial:
+        w, sides = np.ones(2), np.full(2, REFLECT, dtype=np.int64)
+        radial_flight(x, v, w, 0.0, 1.0, REFLECT)
+        free_flight(x[:, 1:], v[:, 1:], 0.0, lo[1:], spacing[1:], sides, w)
+        resampled_redraw(x, v, e, w, start, np.ones(1), zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
     if collisions == "larsen-borgnakke":
         collide(v, e, start, np.ones(1), 1.0, 1.0, 1.0, 0.74, 5.0, zeta, 0, 0, np.ones(1), np.zeros(1),
                 np.zeros((1, 3)), np.zeros(1))
@@ -156,12 +167,21 @@ class _Gas:
         rho, u, v, p = (np.broadcast_to(np.asarray(q, float), grid[0].shape)
                         for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
         v = v if dim == 2 else np.zeros_like(u)
-        self.mass = float(rho.min()) * float(np.prod(self.spacing)) / ppc
+        #: radial weights (axisymmetric: :mod:`partmesh.particle.dsmc.axisymmetric`), else None
+        self.radial = scene.geometry == "axisymmetric"
+        self.fill = fill_factor(self.spacing[0]) if self.radial else 1.0
+        self.mass = float(rho.min()) * self.fill * float(np.prod(self.spacing)) / ppc
         self.initial_fields = (rho, u, v, p)  # the scene's initial state per cell: far field of an outflow
         self.ncell = int(np.prod(self.shape))
         flat = [np.array(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]  # (writable: one kernel signature)
+        if self.radial:
+            flat[0], flat[3] = flat[0] * self.fill, flat[3] * self.fill
         self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
                                                     *flat, self.mass, zeta, seed, 0, self.ncell)
+        self.w = ring_weights(self.x[:, 0], self.spacing[0]) if self.radial else None
+        #: the weight a ring cell's particles are resampled to (:func:`resampled_redraw`)
+        self.target = np.tile(ring_weights(centres[0], self.spacing[0]), self.ncell // self.shape[0]) \
+            if self.radial else None
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
         self.vhs = None  # (F_N σ_ref, g_ref, ω, Z_rot) under true collisions
@@ -177,8 +197,8 @@ class _Gas:
         out = scene.output
         self.output_fraction = None if not scene.obstacles else fluid_fraction(
             *self.polygons, np.array([lo for lo, _ in out.domain]), np.asarray(out.spacing), out.shape)
-        self.cells = CellSums(self.lo, self.spacing, self.shape, fraction)
-        self.cells.add(self.x, self.v, self.e)
+        self.cells = CellSums(self.lo, self.spacing, self.shape, fraction, self.radial)
+        self.cells.add(self.x, self.v, self.e, self.w)
         self.state = self.cells.state(self.mass, scene.gamma)
 
     def saved(self) -> dict:
@@ -186,13 +206,13 @@ class _Gas:
         particles in their memory order, the last cell sums and state, an
         outflow's running boundary moments, the collision maxima, the
         counters."""
-        return {"x": self.x, "v": self.v, "e": self.e, "cells": self.cells, "state": self.state,
+        return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells, "state": self.state,
                 "outflow": self._outflow, "sigma_g_max": self.sigma_g_max,
                 "counters": (self.safeguard, self.bounces, self.collisions)}
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
-        self.x, self.v, self.e = saved["x"], saved["v"], saved["e"]
+        self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved["w"]
         self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
         self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
@@ -228,6 +248,9 @@ class _Gas:
 
     def totals(self) -> tuple[float, float]:
         """Mass and energy (translational and internal) of all particles."""
+        if self.radial:
+            heat = 0.5 * np.einsum("ij,ij->i", self.v, self.v) + self.e
+            return self.mass * float(self.w.sum()), self.mass * float(np.dot(self.w, heat))
         energy = 0.5 * np.einsum("ij,ij->", self.v, self.v) + self.e.sum()
         return self.mass * self.x.shape[0], self.mass * float(energy)
 
@@ -250,6 +273,10 @@ class _Gas:
         if entering:
             self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
                                       for k, a in enumerate((self.x, self.v, self.e)))
+            if self.radial:
+                self.w = np.concatenate([self.w, *(ring_weights(part[0][:, 0], self.spacing[0]) for part in entering)])
+        if self.radial:
+            return self._radial_step(dt, n)
         if self.scene.obstacles:
             # obstacles first, then the domain's sides fold the end points back (a flight of 0 s)
             self.bounces += fly_past_obstacles(self.x, self.v, dt, *self.polygons)
@@ -268,6 +295,24 @@ class _Gas:
         self.cells.samples = 1
         self.state = self.cells.state(self.mass, self.scene.gamma)
         return self._side_forces(delivered, dt)
+
+    def _radial_step(self, dt, n) -> np.ndarray:
+        """The step of weighted particles in r–z (:mod:`partmesh.particle.dsmc.axisymmetric`):
+        the flight, a stable sort into cells, the resampled redraw."""
+        gone, outer = radial_flight(self.x, self.v, self.w, dt, self.hi[0], self.sides[1])
+        gone_z, along = free_flight(self.x[:, 1:], self.v[:, 1:], dt, self.lo[1:], self.hi[1:], self.sides[2:],
+                                    self.w)
+        keep = ~(gone | gone_z)
+        cell = cell_index(self.x[keep], self.lo, self.spacing, self.cells.shape_array)
+        order = np.argsort(cell, kind="stable")
+        start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=self.ncell))])
+        x, v, e, w = (a[keep][order] for a in (self.x, self.v, self.e, self.w))
+        self.cells.reset()
+        self.x, self.v, self.e, self.w, _ = resampled_redraw(x, v, e, w, start, self.target, self.zeta, self.seed, n,
+                                                             self.cells.s0, self.cells.s1, self.cells.s2)
+        self.cells.samples = 1
+        self.state = self.cells.state(self.mass, self.scene.gamma)
+        return self._side_forces(np.array([0.0, outer, *along]), dt)
 
     def _sort(self, keep) -> np.ndarray:
         """Put the particles flagged in ``keep`` in cell order (into the
@@ -297,12 +342,12 @@ class _Gas:
         if frame.same_grid(self.cells):
             frame.add_sums(self.cells)
         else:
-            frame.add(self.x, self.v, self.e)
+            frame.add(self.x, self.v, self.e, self.w)
 
     def output_sums(self) -> CellSums:
         """Empty moment sums on the scene's output grid."""
         out = self.scene.output
-        return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape, self.output_fraction)
+        return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape, self.output_fraction, self.radial)
 
     def _reservoir(self, side, t, dt, n):
         """Equilibrium particles in a slab outside the open ``side``, deep
@@ -320,8 +365,8 @@ class _Gas:
         corner, size = self.lo.copy(), self.hi - self.lo
         corner[axis], size[axis] = (self.hi[axis] if upper else self.lo[axis] - depth), depth
         x, vel, e = particles_in_cells(corner, size, np.ones(self.scene.dim, dtype=np.int64),
-                                       *(np.array([q], dtype=float) for q in (rho, u, v, p)), self.mass, self.zeta,
-                                       self.seed, n, 2 * self.ncell + side)
+                                       *(np.array([q], dtype=float) for q in (rho * self.fill, u, v, p * self.fill)),
+                                       self.mass, self.zeta, self.seed, n, 2 * self.ncell + side)
         if self.scene.obstacles:  # an obstacle may run out through the side: no gas inside it
             fluid = ~inside_obstacles(x, *self.polygons)
             x, vel, e = x[fluid], vel[fluid], e[fluid]
@@ -368,14 +413,15 @@ class _Gas:
     def _side_forces(self, delivered, dt) -> np.ndarray:
         """Per side: the momentum the particles handed to a reflecting side
         over the step, over dt; elsewhere the pressure of the adjacent cells
-        times the side's length (2D)."""
+        times the side's area (2D: its length per metre depth, or the
+        revolved side in r–z)."""
         dim = self.scene.dim
         forces = delivered * self.mass / dt
         _, _, _, p, _ = self.state
         for side in range(2 * dim):
             if self.sides[side] != REFLECT:
-                length = float(self.hi[1 - side // 2] - self.lo[1 - side // 2]) if dim == 2 else 1.0
-                forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * length
+                area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
+                forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * area
         return forces
 
 
