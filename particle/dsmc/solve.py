@@ -167,7 +167,7 @@ class _Gas:
         rho, u, v, p = (np.broadcast_to(np.asarray(q, float), grid[0].shape)
                         for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
         v = v if dim == 2 else np.zeros_like(u)
-        #: radial weights (axisymmetric: :mod:`partmesh.particle.dsmc.axisymmetric`), else None
+        #: ring cells and weighted particles (:mod:`partmesh.particle.dsmc.axisymmetric`)
         self.radial = scene.geometry == "axisymmetric"
         self.fill = fill_factor(self.spacing[0]) if self.radial else 1.0
         self.mass = float(rho.min()) * self.fill * float(np.prod(self.spacing)) / ppc
@@ -178,10 +178,11 @@ class _Gas:
             flat[0], flat[3] = flat[0] * self.fill, flat[3] * self.fill
         self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
                                                     *flat, self.mass, zeta, seed, 0, self.ncell)
+        #: the particles' radial weights (None in a planar scene)
         self.w = ring_weights(self.x[:, 0], self.spacing[0]) if self.radial else None
         #: the weight a ring cell's particles are resampled to (:func:`resampled_redraw`)
-        self.target = np.tile(ring_weights(centres[0], self.spacing[0]), self.ncell // self.shape[0]) \
-            if self.radial else None
+        self.target = (np.tile(ring_weights(centres[0], self.spacing[0]), self.ncell // self.shape[0])
+                       if self.radial else None)
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
         self.safeguard, self.bounces = 0, 0
         self.vhs = None  # (F_N σ_ref, g_ref, ω, Z_rot) under true collisions
@@ -212,7 +213,7 @@ class _Gas:
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
-        self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved["w"]
+        self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved.get("w")  # (none: planar)
         self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
         self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
