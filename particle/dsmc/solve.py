@@ -277,43 +277,47 @@ class _Gas:
             if self.radial:
                 self.w = np.concatenate([self.w, *(ring_weights(part[0][:, 0], self.spacing[0]) for part in entering)])
         if self.radial:
-            return self._radial_step(dt, n)
-        if self.scene.obstacles:
+            gone, delivered = self._radial_flight(dt)
+        elif self.scene.obstacles:
             # obstacles first, then the domain's sides fold the end points back (a flight of 0 s)
             self.bounces += fly_past_obstacles(self.x, self.v, dt, *self.polygons)
             gone, delivered = free_flight(self.x, self.v, 0.0, self.lo, self.hi, self.sides)
             self.safeguard += push_out_of_obstacles(self.x, self.v, *self.polygons)
         else:
             gone, delivered = free_flight(self.x, self.v, dt, self.lo, self.hi, self.sides)
-        start = self._sort(~gone)
         # the redraw conserves each cell's sums: they are the step's sample
         self.cells.reset()
-        if self.vhs is None:
-            equilibrate(self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1, self.cells.s2)
+        if self.radial:
+            self._resampled(~gone, n)
         else:
-            self.collisions += collide(self.v, self.e, start, self.cells.volume, dt, *self.vhs, self.zeta, self.seed,
-                                       n, self.sigma_g_max, self.cells.s0, self.cells.s1, self.cells.s2)
+            start = self._sort(~gone)
+            if self.vhs is None:
+                equilibrate(self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
+                            self.cells.s2)
+            else:
+                self.collisions += collide(self.v, self.e, start, self.cells.volume, dt, *self.vhs, self.zeta,
+                                           self.seed, n, self.sigma_g_max, self.cells.s0, self.cells.s1, self.cells.s2)
         self.cells.samples = 1
         self.state = self.cells.state(self.mass, self.scene.gamma)
         return self._side_forces(delivered, dt)
 
-    def _radial_step(self, dt, n) -> np.ndarray:
-        """The step of weighted particles in r–z (:mod:`partmesh.particle.dsmc.axisymmetric`):
-        the flight, a stable sort into cells, the resampled redraw."""
+    def _radial_flight(self, dt):
+        """The flight of weighted particles in r–z (:mod:`partmesh.particle.dsmc.axisymmetric`):
+        ``(gone, delivered)`` as :func:`free_flight`'s (none to the axis)."""
         gone, outer = radial_flight(self.x, self.v, self.w, dt, self.hi[0], self.sides[1])
         gone_z, along = free_flight(self.x[:, 1:], self.v[:, 1:], dt, self.lo[1:], self.hi[1:], self.sides[2:],
                                     self.w)
-        keep = ~(gone | gone_z)
+        return gone | gone_z, np.array([0.0, outer, *along])
+
+    def _resampled(self, keep, n) -> None:
+        """The particles flagged in ``keep`` in a stable cell order, resampled
+        and redrawn (:func:`resampled_redraw`) into the step's cell sums."""
         cell = cell_index(self.x[keep], self.lo, self.spacing, self.cells.shape_array)
-        order = np.argsort(cell, kind="stable")
+        index = np.flatnonzero(keep)[np.argsort(cell, kind="stable")]
         start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=self.ncell))])
-        x, v, e, w = (a[keep][order] for a in (self.x, self.v, self.e, self.w))
-        self.cells.reset()
+        x, v, e, w = (a[index] for a in (self.x, self.v, self.e, self.w))
         self.x, self.v, self.e, self.w, _ = resampled_redraw(x, v, e, w, start, self.target, self.zeta, self.seed, n,
                                                              self.cells.s0, self.cells.s1, self.cells.s2)
-        self.cells.samples = 1
-        self.state = self.cells.state(self.mass, self.scene.gamma)
-        return self._side_forces(np.array([0.0, outer, *along]), dt)
 
     def _sort(self, keep) -> np.ndarray:
         """Put the particles flagged in ``keep`` in cell order (into the
