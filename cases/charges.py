@@ -117,7 +117,7 @@ def _balloon_pressure(gamma):
 def _gauges(W, t_end):
     """The ground gauges, the output times (to ``t_end``) and the probe interval of a charge of ``W`` kg."""
     scale = W ** (1.0 / 3.0)
-    probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0) for z in GAUGES)
+    probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0, shell=True) for z in GAUGES)  # (the flow is a hemisphere's)
     times = tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2) if t * scale < t_end) + (t_end,)
     return probes, times, 5e-6 * scale
 

@@ -27,11 +27,19 @@ class Inflow:
 
 @dataclass(frozen=True)
 class Probe:
-    """A named point where a time series is recorded."""
+    """A named point where a time series is recorded.
+
+    ``shell``: the flow is symmetric about the origin (a sphere in r–z, a
+    circle in planar 2D), so the probe stands for every point at its
+    distance from the origin. A method whose one-cell reading scatters
+    (``dsmc``) then reads the mean over that shell; ``fv`` and ``sph``
+    read the point, which in such a flow holds the same value.
+    """
 
     name: str
     x: float
     y: float = 0.0
+    shell: bool = False
 
 
 @dataclass(frozen=True)

@@ -90,3 +90,40 @@ def moment_state(s0, s1, s2, volume, samples, mass, gamma, resolved):
         flow = U[:, :resolved]
         e = s2 / s0 - 0.5 * np.einsum("ij,ij->i", flow, flow)
     return rho, U, (gamma - 1.0) * rho * e, e
+
+
+def probe_cells(cells: CellSums, points, shells):
+    """Per probe, the cells it reads and their weights.
+
+    A probe at ``points[k]`` reads the cell holding it; a shell probe
+    (``shells[k]``, :class:`~partmesh.cases.parts.Probe`) also every cell
+    whose centre lies within half a cell spacing of the sphere (r–z) or
+    circle (planar) through it about the origin, each weighted by its open
+    volume V_c, so that its reading Σ V_c p_c / Σ V_c (:func:`probe_pressures`)
+    is the shell's mean pressure, its scatter falling as one over the root of
+    the cells on it."""
+    own = cell_index(np.asarray(points, float), cells.lo, cells.spacing, cells.shape_array)
+    index = np.indices(tuple(reversed(cells.shape))).reshape(len(cells.shape), -1)[::-1]  # (dim, ncell), x fastest
+    centres = cells.lo[:, None] + (index + 0.5) * cells.spacing[:, None]
+    distance = np.sqrt(np.sum(centres * centres, axis=0))
+    half = 0.5 * float(np.max(cells.spacing))
+    read = []
+    for point, cell, shell in zip(np.asarray(points, float), own, shells):
+        members = np.array([cell])
+        if shell:
+            radius = float(np.sqrt(np.sum(point * point)))
+            members = np.union1d(members, np.nonzero(np.abs(distance - radius) < half)[0])
+        read.append((members, cells.volume[members] if shell else np.ones(1)))
+    return read
+
+
+def probe_pressures(p, read):
+    """The reading of every probe from the cell pressures ``p`` (flat, x
+    fastest) and the cells and weights of :func:`probe_cells`: Σ w_c p_c / Σ w_c
+    over the cells that hold particles (NaN where none does)."""
+    out = np.empty(len(read))
+    for k, (members, weights) in enumerate(read):
+        values = p[members]
+        held = np.isfinite(values) & (weights > 0)
+        out[k] = np.sum(weights[held] * values[held]) / np.sum(weights[held]) if held.any() else np.nan
+    return out

@@ -51,7 +51,7 @@ from partmesh.particle.dsmc.far_field import far_field_state
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
 from partmesh.particle.dsmc.method import DSMCSettings
 from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from partmesh.particle.dsmc.sample import CellSums, moment_state
+from partmesh.particle.dsmc.sample import CellSums, moment_state, probe_cells, probe_pressures
 from partmesh.particle.dsmc.walls import (
     fluid_fraction,
     fly_past_obstacles,
@@ -460,6 +460,8 @@ class _Run(RunRecord):
 
     def __init__(self, scene, gas, settings, compile_seconds):
         self.scene, self.gas = scene, gas
+        points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float).reshape(-1, scene.dim)
+        self.read = probe_cells(gas.cells, points, [pr.shell for pr in scene.probes])
         super().__init__(scene, "dsmc", settings, compile_seconds, History(self.probes(), 2 * scene.dim, scene.t_start))
         self.sums = gas.output_sums()
         self.solid = None
@@ -468,13 +470,9 @@ class _Run(RunRecord):
             self.solid = np.any([shape.contains(X, Y) for shape in scene.obstacles], axis=0)
 
     def probes(self) -> np.ndarray:
-        """Pressure at every probe: that of the DSMC cell holding it."""
-        scene, gas = self.scene, self.gas
-        if not scene.probes:
-            return np.zeros(0)
-        points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float)
-        cell = cell_index(points, gas.lo, gas.spacing, gas.cells.shape_array)
-        return gas.state[3].reshape(-1)[cell]
+        """Pressure at every probe: that of the DSMC cell holding it, or the
+        mean over its shell (:func:`~partmesh.particle.dsmc.sample.probe_cells`)."""
+        return probe_pressures(self.gas.state[3].reshape(-1), self.read)
 
     def totals(self, gas) -> dict:
         """Mass and energy (translational and internal) of all particles."""
@@ -517,10 +515,13 @@ class _Run(RunRecord):
         scheme = (f"{'equilibrium DSMC (Pullin)' if self.gas.vhs is None else 'DSMC'}: free flight, specular plane "
                   f"walls and obstacle polygons, equilibrium reservoirs at open sides, {cells}; {s['ppc']} particles "
                   f"per cell in the lowest initial density, moments over {s['window']} step(s) per frame")
+        shells = [pr.name for pr in self.scene.probes if pr.shell]
+        shell_note = (f"; shell probes ({', '.join(shells)}): the volume-weighted mean pressure of the cells within "
+                      "half a cell of the sphere (r-z) or circle through them about the origin" if shells else "")
         attrs = {"particle_mass": self.gas.mass, "internal_degrees": self.gas.zeta,
                  "wall_reflections": self.gas.safeguard,  # particles the safeguard put back out of a solid
                  "particles_in_solids": self.gas.in_solids(), "obstacle_bounces": self.gas.bounces,
                  "collisions": self.gas.collisions,
                  "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides and "
-                                  "probes: the adjacent cell's pressure"}
+                                  "probes: the adjacent cell's pressure" + shell_note}
         return fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs
