@@ -156,20 +156,23 @@ def test_cell_sort_is_the_stable_sort_whatever_the_chunk_count(dim):
     n = 5000
     # positions inside the grid and some beyond it (they go to the nearest cell)
     x = lo + rng.uniform(-0.05, 1.05, (n, dim)) * shape * spacing
-    v, e = rng.normal(size=(n, 3)), rng.uniform(size=n)
+    v, e, w = rng.normal(size=(n, 3)), rng.uniform(size=n), rng.uniform(size=n)
     index = np.clip(np.floor((x - lo) / spacing).astype(int), 0, shape - 1)
     cell = index[:, 0] + (index[:, 1] * shape[0] if dim == 2 else 0)
     keep = rng.uniform(size=n) > 0.1  # the rest left the run: dropped by the sort
     order = np.flatnonzero(keep)[np.argsort(cell[keep], kind="stable")]
     for chunks in (1, 2, 3, 64):
-        xs, vs, es = np.empty_like(x), np.empty_like(v), np.empty_like(e)
-        start = sort_into_cells(x, v, e, keep, lo, spacing, shape, chunks, xs, vs, es)
+        xs, vs, es, ws = np.empty_like(x), np.empty_like(v), np.empty_like(e), np.empty_like(w)
+        start = sort_into_cells(x, v, e, w, keep, lo, spacing, shape, chunks, xs, vs, es, ws)
         kept = start[-1]
         assert kept == keep.sum()
         np.testing.assert_array_equal(xs[:kept], x[order])
         np.testing.assert_array_equal(vs[:kept], v[order])
         np.testing.assert_array_equal(es[:kept], e[order])
+        np.testing.assert_array_equal(ws[:kept], w[order])  # the weights of r–z travel with their particles
         np.testing.assert_array_equal(np.diff(start), np.bincount(cell[keep], minlength=int(np.prod(shape))))
+        unweighted = sort_into_cells(x, v, e, np.empty(0), keep, lo, spacing, shape, chunks, xs, vs, es, np.empty(0))
+        np.testing.assert_array_equal(unweighted, start)
 
 
 @pytest.mark.parametrize("f, area, x", [

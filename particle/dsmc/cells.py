@@ -42,9 +42,10 @@ def cell_index(x, lo, spacing, shape):
 
 
 @numba.njit(parallel=True, cache=True)
-def sort_into_cells(x, v, e, keep, lo, spacing, shape, chunks, xs, vs, es):
-    """Copy the particles ``x`` (n, dim), ``v`` (n, 3), ``e`` (n,) for which
-    ``keep`` (n,) is true into ``xs``, ``vs``, ``es`` in cell order; returns
+def sort_into_cells(x, v, e, w, keep, lo, spacing, shape, chunks, xs, vs, es, ws):
+    """Copy the particles ``x`` (n, dim), ``v`` (n, 3), ``e`` (n,) and their
+    weights ``w`` (n,; empty for unweighted particles, ``ws`` then empty too)
+    for which ``keep`` (n,) is true into ``xs``, ``vs``, ``es``, ``ws`` in cell order; returns
     ``start``, cell c holding ``start[c]:start[c+1]``, so ``start[-1]``
     particles were kept. Dropping the particles that left the run here
     saves a compaction pass over every array.
@@ -55,6 +56,7 @@ def sort_into_cells(x, v, e, keep, lo, spacing, shape, chunks, xs, vs, es):
     its particles there in their order — the stable sort, whatever
     ``chunks``."""
     n, dim = x.shape
+    weighted = w.shape[0] > 0
     ncell = 1
     for a in range(dim):
         ncell *= shape[a]
@@ -89,6 +91,8 @@ def sort_into_cells(x, v, e, keep, lo, spacing, shape, chunks, xs, vs, es):
             vs[k, 1] = v[i, 1]
             vs[k, 2] = v[i, 2]
             es[k] = e[i]
+            if weighted:
+                ws[k] = w[i]
     return start
 
 

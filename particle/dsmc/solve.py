@@ -131,7 +131,8 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
     x, v, e = np.full((2, dim), 0.5), np.zeros((2, 3)), np.zeros(2)
     lo, spacing, shape = np.zeros(dim), np.ones(dim), np.ones(dim, dtype=np.int64)
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
-    start = sort_into_cells(x, v, e, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(), e.copy())
+    start = sort_into_cells(x, v, e, UNWEIGHTED, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(),
+                            e.copy(), UNWEIGHTED)
     equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
     if radial:
         w, sides = np.ones(2), np.full(2, REFLECT, dtype=np.int64)
@@ -312,25 +313,27 @@ class _Gas:
     def _resampled(self, keep, n) -> None:
         """The particles flagged in ``keep`` in a stable cell order, resampled
         and redrawn (:func:`resampled_redraw`) into the step's cell sums."""
-        cell = cell_index(self.x[keep], self.lo, self.spacing, self.cells.shape_array)
-        index = np.flatnonzero(keep)[np.argsort(cell, kind="stable")]
-        start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=self.ncell))])
-        x, v, e, w = (a[index] for a in (self.x, self.v, self.e, self.w))
-        self.x, self.v, self.e, self.w, _ = resampled_redraw(x, v, e, w, start, self.target, self.zeta, self.seed, n,
-                                                             self.cells.s0, self.cells.s1, self.cells.s2)
+        start = self._sort(keep)
+        self.x, self.v, self.e, self.w, _ = resampled_redraw(self.x, self.v, self.e, self.w, start, self.target,
+                                                             self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
+                                                             self.cells.s2)
 
     def _sort(self, keep) -> np.ndarray:
-        """Put the particles flagged in ``keep`` in cell order (into the
-        spare buffers, which then hold the old order) and drop the rest;
-        returns the cell starts."""
+        """Put the particles flagged in ``keep`` (and their weights, in r–z)
+        in cell order (into the spare buffers, which then hold the old
+        order) and drop the rest; returns the cell starts."""
         n = self.x.shape[0]
         if self._spare is None or self._spare[2].shape[0] < n:
             capacity = n + n // 4 + 16  # room for the particles an inflow adds
-            self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity))
-        old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e))
-        start = sort_into_cells(*(a[:n] for a in old), keep, self.lo, self.spacing, self.cells.shape_array,
-                                numba.get_num_threads(), *self._spare)
-        self.x, self.v, self.e = (buffer[:start[-1]] for buffer in self._spare)
+            self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity),
+                           np.empty(capacity) if self.radial else UNWEIGHTED)
+        weights = self.w if self.radial else UNWEIGHTED
+        old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, weights))
+        start = sort_into_cells(*(a[:n] for a in old[:3]), old[3][:n], keep, self.lo, self.spacing,
+                                self.cells.shape_array, numba.get_num_threads(), *self._spare)
+        self.x, self.v, self.e = (buffer[:start[-1]] for buffer in self._spare[:3])
+        if self.radial:
+            self.w = self._spare[3][:start[-1]]
         self._spare = old
         return start
 
@@ -428,6 +431,10 @@ class _Gas:
                 area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * area
         return forces
+
+
+#: the weights of unweighted (planar) particles for :func:`sort_into_cells`
+UNWEIGHTED = np.empty(0)
 
 
 def _buffer_of(a: np.ndarray) -> np.ndarray:
