@@ -42,6 +42,7 @@ class CellSums:
 
     def reset(self):
         self.samples = 0
+        self.count = np.zeros(self.ncell)  # the particles sampled (unweighted)
         self.s0 = np.zeros(self.ncell)
         self.s1 = np.zeros((self.ncell, 3))
         self.s2 = np.zeros(self.ncell)
@@ -49,6 +50,7 @@ class CellSums:
     def add(self, x, v, e, w=None):
         """Add one sample of the particles ``(x, v, e)``, of weights ``w`` if given."""
         cell = cell_index(x, self.lo, self.spacing, self.shape_array)
+        self.count += np.bincount(cell, minlength=self.ncell)
         self.s0 += np.bincount(cell, w, minlength=self.ncell)
         for a in range(3):
             self.s1[:, a] += np.bincount(cell, v[:, a] if w is None else w * v[:, a], minlength=self.ncell)
@@ -63,6 +65,7 @@ class CellSums:
 
     def add_sums(self, other: "CellSums"):
         """Add the samples ``other`` holds, on the same grid."""
+        self.count += other.count
         self.s0 += other.s0
         self.s1 += other.s1
         self.s2 += other.s2
@@ -90,6 +93,27 @@ def moment_state(s0, s1, s2, volume, samples, mass, gamma, resolved):
         flow = U[:, :resolved]
         e = s2 / s0 - 0.5 * np.einsum("ij,ij->i", flow, flow)
     return rho, U, (gamma - 1.0) * rho * e, e
+
+
+def unbiased_pressure(p, count, resolved, zeta):
+    """The pressure of one sample of ``count`` particles per cell, freed of
+    the bias of :func:`moment_state`'s thermal energy.
+
+    The flow velocity U of a cell is the mean of its N particles, so ½|U|²
+    takes in the variance θ/N of that mean in each of the ``resolved``
+    components d: for particles in equilibrium at temperature θ with
+    ``zeta`` internal degrees ζ, E[e_th] = ½(3 + ζ) θ (1 − d/((3 + ζ) N)),
+    and
+
+        p̂ = p / (1 − d/((3 + ζ) N))
+
+    is unbiased (−1.3 % without it at 30 particles of air in 2D). Exact for
+    one sample; for sums over several steps the variance of U is not θ/(KN)
+    (the redraw keeps a cell's momentum from step to step), so the output
+    frames keep the plain estimator, whose cell energies sum to the
+    particles'. NaN where no particle was sampled."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(count > 0, p / (1.0 - resolved / ((3.0 + zeta) * count)), np.nan)
 
 
 def probe_cells(cells: CellSums, points, shells):

@@ -51,7 +51,7 @@ from partmesh.particle.dsmc.far_field import far_field_state
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
 from partmesh.particle.dsmc.method import DSMCSettings
 from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from partmesh.particle.dsmc.sample import CellSums, moment_state, probe_cells, probe_pressures
+from partmesh.particle.dsmc.sample import CellSums, moment_state, probe_cells, probe_pressures, unbiased_pressure
 from partmesh.particle.dsmc.walls import (
     fluid_fraction,
     fly_past_obstacles,
@@ -216,6 +216,9 @@ class _Gas:
         """Continue from :meth:`saved`."""
         self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved.get("w")  # (none: planar)
         self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
+        if not hasattr(self.cells, "count"):  # (a checkpoint written before the cells counted their particles)
+            self.cells.count = np.bincount(cell_index(self.x, self.lo, self.spacing, self.cells.shape_array),
+                                           minlength=self.ncell)
         self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
         self._spare = None
@@ -289,7 +292,7 @@ class _Gas:
         # the redraw conserves each cell's sums: they are the step's sample
         self.cells.reset()
         if self.radial:
-            self._resampled(~gone, n)
+            start = self._resampled(~gone, n)
         else:
             start = self._sort(~gone)
             if self.vhs is None:
@@ -298,7 +301,7 @@ class _Gas:
             else:
                 self.collisions += collide(self.v, self.e, start, self.cells.volume, dt, *self.vhs, self.zeta,
                                            self.seed, n, self.sigma_g_max, self.cells.s0, self.cells.s1, self.cells.s2)
-        self.cells.samples = 1
+        self.cells.samples, self.cells.count = 1, np.diff(start)
         self.state = self.cells.state(self.mass, self.scene.gamma)
         return self._side_forces(delivered, dt)
 
@@ -310,13 +313,15 @@ class _Gas:
                                     self.w)
         return gone | gone_z, np.array([0.0, outer, *along])
 
-    def _resampled(self, keep, n) -> None:
+    def _resampled(self, keep, n) -> np.ndarray:
         """The particles flagged in ``keep`` in a stable cell order, resampled
-        and redrawn (:func:`resampled_redraw`) into the step's cell sums."""
+        and redrawn (:func:`resampled_redraw`) into the step's cell sums;
+        returns the cell starts of the sort."""
         start = self._sort(keep)
         self.x, self.v, self.e, self.w, _ = resampled_redraw(self.x, self.v, self.e, self.w, start, self.target,
                                                              self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
                                                              self.cells.s2)
+        return start
 
     def _sort(self, keep) -> np.ndarray:
         """Put the particles flagged in ``keep`` (and their weights, in r–z)
@@ -478,8 +483,11 @@ class _Run(RunRecord):
 
     def probes(self) -> np.ndarray:
         """Pressure at every probe: that of the DSMC cell holding it, or the
-        mean over its shell (:func:`~partmesh.particle.dsmc.sample.probe_cells`)."""
-        return probe_pressures(self.gas.state[3].reshape(-1), self.read)
+        mean over its shell (:func:`~partmesh.particle.dsmc.sample.probe_cells`),
+        each cell's unbiased (:func:`~partmesh.particle.dsmc.sample.unbiased_pressure`)."""
+        gas = self.gas
+        p = unbiased_pressure(gas.state[3].reshape(-1), gas.cells.count, self.scene.dim, gas.zeta)
+        return probe_pressures(p, self.read)
 
     def totals(self, gas) -> dict:
         """Mass and energy (translational and internal) of all particles."""
@@ -529,6 +537,7 @@ class _Run(RunRecord):
                  "wall_reflections": self.gas.safeguard,  # particles the safeguard put back out of a solid
                  "particles_in_solids": self.gas.in_solids(), "obstacle_bounces": self.gas.bounces,
                  "collisions": self.gas.collisions,
-                 "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides and "
-                                  "probes: the adjacent cell's pressure" + shell_note}
+                 "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides: the "
+                                  "adjacent cell's pressure; probes: the pressure of the cell holding them, freed "
+                                  "of the bias of one sample's thermal energy" + shell_note}
         return fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs
