@@ -3,13 +3,15 @@
     python studies/blast_array/tables.py methods    # agreement with fv, fv at 0.5 mm, ranking
     python studies/blast_array/tables.py variants   # sph and dsmc wall loads, agreement, ranking
     python studies/blast_array/tables.py ladder     # the three levels of each method's ladder
+    python studies/blast_array/tables.py staggered  # the parts layers, standoff, trap, strong; the fv ladders
 
 ``methods`` reads ``methods/`` (the moderate study of the three methods at
 1 mm), ``fv/wall_loads_0.5mm.csv`` and ``dsmc/twin_wall_loads_1mm.csv``;
 ``variants`` reads ``variants/`` (fv at 1 mm, sph and dsmc at 2 mm),
 ``fv/wall_loads_variants_strong_2mm.csv`` and
 ``dsmc/twin_wall_loads_variants_strong_2mm.csv``; ``ladder`` reads
-``ladder/ladder.csv``. Relative differences are
+``ladder/ladder.csv``; ``staggered`` reads ``layers/``, ``standoff/``,
+``trap/``, ``strong/`` and ``ladder_staggered/``. Relative differences are
 (q − q_fv)/|q_fv| in per cent, in bold beyond what issue 6 asks of the
 method (10 % for sph, 15 % for dsmc).
 """
@@ -150,7 +152,60 @@ def ladder_table() -> str:
                      "arrival [ms]", "solver time [s]"], rows)
 
 
-PARTS = {"methods": methods_tables, "variants": variants_tables, "ladder": ladder_table}
+#: the parts of the seed study's staggered design, each in a folder of its own
+STAGGERED = ("layers", "standoff", "trap", "strong")
+
+
+def change_table(folder: Path) -> str:
+    """The change of each wall load from 3 to 5 and from 5 to 7 staggered layers, per method and shape."""
+    changes = pd.read_csv(folder / "layer_reduction.csv")
+    quantities = ("wall_peak_overpressure_fitted", "wall_force_peak_fitted", "wall_force_peak_raw", "wall_impulse_final")
+    rows = [[r["method"], r["shape"], f"{r['from']} → {r['to']}", *(percent(r[q]) for q in quantities)]
+            for _, r in changes.iterrows()]
+    return markdown(["method", "shape", "layers", "peak overpressure, fitted", "peak force, fitted",
+                     "peak force, raw", "impulse at 3 ms"], rows)
+
+
+def trend_table(folder: Path, key: str, unit: str) -> str:
+    """Impulse and raw / fitted peak force against ``key`` (a trend.csv column), per method and shape."""
+    trend = pd.read_csv(folder / "trend.csv")
+    rows = []
+    for (shape, method), group in trend.groupby(["shape", "method"], sort=False):
+        group = group.sort_values(key)
+        rows.append([shape, method, *(f"{r['wall_impulse_final']:.2f} ({r['wall_force_peak_raw'] / 1e3:.1f} / "
+                                      f"{r['wall_force_peak_fitted'] / 1e3:.1f})" for _, r in group.iterrows())])
+    values = sorted(trend[key].unique())
+    return markdown(["shape", "method", *(f"{v:g}{unit}" for v in values)], rows)
+
+
+def staggered_tables() -> str:
+    """Per part of the staggered design: every method's wall loads, the agreement with fv at 1 mm, the
+    ranking; the change per two layers and the loads against the trap gap; the fv ladders."""
+    out = []
+    for part in STAGGERED:
+        folder = HERE / part
+        loads = pd.read_csv(folder / "wall_loads.csv")
+        out += [f"### {part}", *(f"{m}:\n\n{loads_table(loads, m)}" for m in ("fv", "sph", "dsmc")
+                                  if (loads["method"] == m).any()),
+                "Agreement with fv at 1 mm (raw peak force / fitted peak force / impulse):",
+                agreement_table(loads, {m: loads[loads["method"] == m] for m in ("sph", "dsmc")
+                                        if (loads["method"] == m).any()}),
+                "Ranking by impulse:", ranking_table(folder)]
+        if part == "layers":
+            out += ["Change per two layers:", change_table(folder)]
+        if part == "trap":
+            out += ["Impulse [N s/m] (raw / fitted peak force [kN/m]) against the trap gap (0: the six layers "
+                    "without a gap):", trend_table(folder, "trap_gap", " m")]
+    ladders = pd.concat([pd.read_csv(f).assign(configuration=f.parent.name)
+                         for f in sorted((HERE / "ladder_staggered").glob("*/ladder.csv"))])
+    rows = [[name, *(" / ".join(f"{scale * v:{fmt}}" for v in runs.sort_values("dx", ascending=False)[q])
+                     for q, (scale, fmt) in LADDER_COLUMNS.items())] for name, runs in ladders.groupby("configuration")]
+    out += ["### fv ladders", markdown(["configuration", "dx [mm]", "impulse [N s/m]", "fitted peak force [kN/m]",
+                                        "raw peak force [kN/m]", "arrival [ms]", "solver time [s]"], rows)]
+    return "\n\n".join(out)
+
+
+PARTS = {"methods": methods_tables, "variants": variants_tables, "ladder": ladder_table, "staggered": staggered_tables}
 
 if __name__ == "__main__":
     part = sys.argv[1] if len(sys.argv) > 1 else ""
