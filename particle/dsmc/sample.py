@@ -107,8 +107,11 @@ def unbiased_pressure(p, count, resolved, zeta):
 
         p̂ = p / (1 − d/((3 + ζ) N))
 
-    is unbiased (−1.3 % without it at 30 particles of air in 2D). Exact for
-    one sample; for sums over several steps the variance of U is not θ/(KN)
+    is unbiased (−1.3 % without it at 30 particles of air in 2D). In r–z
+    N counts particles whose weights differ by the ratio of neighbouring
+    radii, so their effective number (Σw)²/Σw² is N to about a per cent
+    from the fifth ring out (less next to the axis, where the correction
+    falls short). Exact for one sample; for sums over several steps the variance of U is not θ/(KN)
     (the redraw keeps a cell's momentum from step to step), so the output
     frames keep the plain estimator, whose cell energies sum to the
     particles'. NaN where no particle was sampled."""
