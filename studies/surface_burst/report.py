@@ -14,7 +14,7 @@ Reads every ``surface_burst`` and ``surface_burst_1d`` result in RUNS_FOLDER
 * ``histories.png``: overpressure at every gauge, every run overlaid;
 * ``schlieren.png``: a numerical schlieren of the r–z runs (the quadrant's
   lower left quarter) at 10 ms W^(1/3), the front between the gauges Z3
-  and Z5.
+  and Z5 (of a dsmc run its density: its schlieren is that of its scatter).
 
 The gauge values are measured anew from each run's probe series
 (:func:`partmesh.cases.charges.gauge_metrics`), so runs written before a
@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from partmesh.cases.charges import GAUGE_QUANTITIES, gauge_metrics  # noqa: E402
+from partmesh.cases.registry import method  # noqa: E402
 from partmesh.compare.exact.kingery_bulmash import scaled_value  # noqa: E402
 from partmesh.compare.io import read  # noqa: E402
 from partmesh.compare.metrics import schlieren  # noqa: E402
@@ -106,14 +107,21 @@ def histories_figure(runs: dict, path: Path) -> None:
 
 
 def schlieren_figure(runs: dict, path: Path, t: float) -> None:
-    """A numerical schlieren of every r–z run at the output time nearest ``t``."""
+    """A numerical schlieren of every r–z run at the output time nearest
+    ``t``; of a stochastic method's run (dsmc), whose schlieren is the
+    gradient of its scatter and shows nothing else, the density itself."""
     planes = {name: ds for name, ds in runs.items() if ds.attrs["geometry"] == "axisymmetric"}
     if not planes:
         return
     fig, axes = plt.subplots(1, len(planes), figsize=(4.5 * len(planes), 4.2), squeeze=False)
     for ax, (name, ds) in zip(axes[0], planes.items()):
         frame = ds["rho"].sel(time=t, method="nearest")
-        ax.pcolormesh(ds.x, ds.y, schlieren(frame), cmap="gray", shading="auto")
+        if method(ds.attrs["method"]).takes_seed:
+            shown = ax.pcolormesh(ds.x, ds.y, frame, cmap="viridis", shading="auto", vmin=0.5 * float(frame.median()),
+                                  vmax=2.0 * float(frame.median()))
+            fig.colorbar(shown, ax=ax, shrink=0.8, label="density [kg/m³]")
+        else:
+            ax.pcolormesh(ds.x, ds.y, schlieren(frame), cmap="gray", shading="auto")
         ax.set_aspect("equal")
         ax.set_xlim(0.0, 0.5 * float(ds.x[-1]))
         ax.set_ylim(0.0, 0.5 * float(ds.y[-1]))
