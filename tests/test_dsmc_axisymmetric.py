@@ -168,7 +168,7 @@ def test_one_samples_pressure_is_unbiased_once_the_variance_of_the_mean_velocity
     e = rng.gamma(0.5 * zeta, 1.0, (cells, n))
     s0, s1 = np.full(cells, float(n)), v.sum(axis=1)
     s2 = np.sum(0.5 * np.sum(v * v, axis=2) + e, axis=1)
-    rho, _, p, _ = moment_state(s0, s1, s2, np.ones(cells), 1, 1.0, 1.4, 2)  # p = ρθ = 4 on average
+    _, _, p, _ = moment_state(s0, s1, s2, np.ones(cells), 1, 1.0, 1.4, 2)  # p = ρθ = 4 on average
     fixed = unbiased_pressure(p, s0, 2, zeta)
     error = p.std() / np.sqrt(cells)
     assert abs(p.mean() / n - 0.9) < 4.0 * error / n

@@ -111,10 +111,11 @@ def unbiased_pressure(p, count, resolved, zeta):
     N counts particles whose weights differ by the ratio of neighbouring
     radii, so their effective number (Σw)²/Σw² is N to about a per cent
     from the fifth ring out (less next to the axis, where the correction
-    falls short). Exact for one sample; for sums over several steps the variance of U is not θ/(KN)
-    (the redraw keeps a cell's momentum from step to step), so the output
-    frames keep the plain estimator, whose cell energies sum to the
-    particles'. NaN where no particle was sampled."""
+    falls short). Exact for one sample; for sums over several steps the
+    variance of U is not θ/(KN) (the redraw keeps a cell's momentum from
+    step to step), so the output frames keep the plain estimator, whose
+    cell energies sum to the particles'. NaN where no particle was
+    sampled."""
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(count > 0, p / (1.0 - resolved / ((3.0 + zeta) * count)), np.nan)
 

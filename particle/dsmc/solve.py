@@ -125,6 +125,10 @@ def landing_step(dt_max: float, left: float) -> float:
     return 0.5 * left if left < 2.0 * dt_max else dt_max
 
 
+#: the weights of unweighted (planar) particles for :func:`sort_into_cells`
+UNWEIGHTED = np.empty(0)
+
+
 def _compile_kernels(dim, zeta, collisions, radial=False):
     """Compile (or load from the cache) the numba kernels of a step, on two
     particles, so that the run's time excludes it."""
@@ -334,8 +338,8 @@ class _Gas:
                            np.empty(capacity) if self.radial else UNWEIGHTED)
         weights = self.w if self.radial else UNWEIGHTED
         old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, weights))
-        start = sort_into_cells(*(a[:n] for a in old[:3]), old[3][:n], keep, self.lo, self.spacing,
-                                self.cells.shape_array, numba.get_num_threads(), *self._spare)
+        start = sort_into_cells(*(a[:n] for a in old), keep, self.lo, self.spacing, self.cells.shape_array,
+                                numba.get_num_threads(), *self._spare)
         self.x, self.v, self.e = (buffer[:start[-1]] for buffer in self._spare[:3])
         if self.radial:
             self.w = self._spare[3][:start[-1]]
@@ -436,10 +440,6 @@ class _Gas:
                 area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * area
         return forces
-
-
-#: the weights of unweighted (planar) particles for :func:`sort_into_cells`
-UNWEIGHTED = np.empty(0)
 
 
 def _buffer_of(a: np.ndarray) -> np.ndarray:
