@@ -123,27 +123,32 @@ def _gauges(W, t_end):
 
 
 def gauge_metrics(ds, W: float, p0: float) -> dict:
-    """Per ground gauge ``Z…``: the peak overpressure (raw, and fitted back
-    to the arrival: :func:`partmesh.compare.metrics.peak`), the arrival
-    time, the positive-phase duration and impulse
+    """Per ground gauge ``Z…``: the peak overpressure, raw and fitted (read
+    behind the smeared shock and carried back to it by the equal-area rule:
+    :func:`partmesh.compare.metrics.shock_fitted_peak`), the arrival time,
+    the positive-phase duration and impulse
     (:func:`partmesh.compare.metrics.positive_phase`), each beside its
     Kingery–Bulmash value (``…_kb``, the incident quantities of a
     hemispherical surface burst, Swisdak 1994); NaN where a gauge's record
-    cannot be read (the run ended before its positive phase)."""
+    cannot be read (the run ended before its positive phase, or the fitted
+    peak where the front is too wide to fit behind)."""
     out = {}
     for name in ds.probe.values:
         p = ds["p_probe"].sel(probe=name)
         kb = blast_parameters(float(ds.probe_x.sel(probe=name)), W)
         try:
-            peak, phase = metrics.peak(p, baseline=p0), metrics.positive_phase(p, baseline=p0)
-            measured = {"peak_overpressure": float(p.max()) - p0, "peak_overpressure_fitted": peak["fitted"] - p0,
-                        "arrival_time": peak["arrival"], "positive_duration": phase["duration"],
-                        "positive_impulse": phase["impulse"]}
+            phase = metrics.positive_phase(p, baseline=p0)
+            measured = {"peak_overpressure": float(p.max()) - p0, "arrival_time": phase["arrival"],
+                        "positive_duration": phase["duration"], "positive_impulse": phase["impulse"]}
         except ValueError:
             measured = dict.fromkeys(GAUGE_QUANTITIES, float("nan"))
+        try:
+            measured["peak_overpressure_fitted"] = metrics.shock_fitted_peak(p, baseline=p0)["peak"] - p0
+        except ValueError:
+            measured["peak_overpressure_fitted"] = float("nan")
         reference = {"peak_overpressure": kb.incident_overpressure, "arrival_time": kb.arrival_time,
                      "positive_duration": kb.positive_duration, "positive_impulse": kb.incident_impulse}
-        out.update({f"{name}_{q}": v for q, v in measured.items()})
+        out.update({f"{name}_{q}": measured[q] for q in GAUGE_QUANTITIES})
         out.update({f"{name}_{q}_kb": float(v) for q, v in reference.items()})
     return out
 

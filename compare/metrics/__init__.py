@@ -14,7 +14,14 @@ their public names.
 from partmesh.compare.metrics.conservation import conservation_drift
 from partmesh.compare.metrics.field_errors import NORMS, errors, field_error
 from partmesh.compare.metrics.oblique_shock import oblique_shock_angle
-from partmesh.compare.metrics.probe_series import arrival_time, first_crest, peak, plateau, positive_phase
+from partmesh.compare.metrics.probe_series import (
+    arrival_time,
+    first_crest,
+    peak,
+    plateau,
+    positive_phase,
+    shock_fitted_peak,
+)
 from partmesh.compare.metrics.schlieren import schlieren
 from partmesh.compare.metrics.shock_position import ring_profile, shock_position, shock_radius
 from partmesh.compare.metrics.units import MEASURED_UNITS, measured_unit
@@ -34,6 +41,7 @@ __all__ = [
     "positive_phase",
     "ring_profile",
     "schlieren",
+    "shock_fitted_peak",
     "shock_position",
     "shock_radius",
 ]
