@@ -5,12 +5,13 @@
 Reads every ``surface_burst`` and ``surface_burst_1d`` result in RUNS_FOLDER
 (one charge mass) and writes beside this script
 
-* ``gauges.csv``: per run and gauge, the peak overpressure (raw and fitted
-  back to the arrival), arrival time, positive duration and impulse, the
+* ``gauges.csv``: per run and gauge, the peak overpressure (raw, and
+  fitted behind the shock and carried back to it by the equal-area rule),
+  arrival time, positive duration and impulse, the
   Kingery–Bulmash value of each and the ratio to it, with the run's method,
   geometry, cell size, cells and solver time;
-* ``peaks.png``: peak overpressure and positive impulse against scaled
-  distance on log axes, the Kingery–Bulmash curves and every run;
+* ``peaks.png``: peak overpressure (raw and fitted) and positive impulse
+  against scaled distance on log axes, the Kingery–Bulmash curves and every run;
 * ``histories.png``: overpressure at every gauge, every run overlaid;
 * ``schlieren.png``: a numerical schlieren of the r–z runs (the quadrant's
   lower left quarter) at 10 ms W^(1/3), the front between the gauges Z3
@@ -71,10 +72,11 @@ def table(runs: dict) -> pd.DataFrame:
 
 
 def peaks_figure(df: pd.DataFrame, path: Path) -> None:
-    """Peak overpressure and positive impulse against Z, with the Kingery–Bulmash curves."""
+    """Peak overpressure (raw and fitted) and positive impulse against Z, with the Kingery–Bulmash curves."""
     Z = np.geomspace(0.8, 14.0, 200)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.4))
     for ax, (q, kb, unit, scale) in zip(axes, (("peak_overpressure", "incident_overpressure", "kPa", 1e-3),
+                                               ("peak_overpressure_fitted", "incident_overpressure", "kPa", 1e-3),
                                                ("positive_impulse", "incident_impulse", "Pa s", 1.0))):
         ax.loglog(Z, scaled_value(kb, Z) * scale, "k-", lw=2, label="Kingery-Bulmash (Swisdak 1994)")
         for run, rows in df.groupby("run", sort=False):
@@ -151,7 +153,10 @@ def main(argv=None) -> None:
     histories_figure(runs, args.out / "histories.png")
     W = charge(next(iter(runs.values())))[0]
     schlieren_figure(runs, args.out / "schlieren.png", 1e-2 * W ** (1.0 / 3.0))
-    print(df.pivot_table(index="gauge", columns="run", values="peak_overpressure_ratio", sort=False).round(3))
+    for q in ("peak_overpressure", "peak_overpressure_fitted"):
+        print(f"{q} over Kingery–Bulmash")
+        print(df.pivot_table(index="gauge", columns="run", values=f"{q}_ratio", sort=False, dropna=False).round(3)
+              .to_string())
 
 
 if __name__ == "__main__":
