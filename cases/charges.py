@@ -129,9 +129,11 @@ def gauge_metrics(ds, W: float, p0: float) -> dict:
     the positive-phase duration and impulse
     (:func:`partmesh.compare.metrics.positive_phase`), each beside its
     Kingery–Bulmash value (``…_kb``, the incident quantities of a
-    hemispherical surface burst, Swisdak 1994); NaN where a gauge's record
-    cannot be read (the run ended before its positive phase, or the fitted
-    peak where the front is too wide to fit behind)."""
+    hemispherical surface burst, Swisdak 1994). NaN where a gauge's record
+    cannot be read (no rise above p0); the fitted peak also NaN where the
+    record ends inside its positive phase (whose duration and impulse are
+    then those up to the end) or the fit is refused (a front too wide to
+    fit behind)."""
     out = {}
     for name in ds.probe.values:
         p = ds["p_probe"].sel(probe=name)
