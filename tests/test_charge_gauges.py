@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from scipy.ndimage import gaussian_filter1d
 
 from partmesh.cases.charges import GAUGE_QUANTITIES, gauge_metrics
 from partmesh.compare.exact.kingery_bulmash import blast_parameters
+from tests.test_metrics import friedlander_overpressure
 
 P0, W, ALPHA = 101325.0, 1.0, 1.5
 DT = 5e-6
@@ -19,18 +19,13 @@ T_END = 40e-3
 
 
 def friedlander(Z, smear=0.0, end=T_END):
-    """The Friedlander wave P (1 − τ/T) e^{−ατ/T} with the Kingery–Bulmash P, arrival and T at Z, its jump
-    between samples, convolved with a Gaussian of ``smear`` T, sampled every DT to ``end``."""
+    """The Friedlander wave with the Kingery–Bulmash P, arrival and T at Z, its jump between samples, smeared
+    by ``smear`` T, sampled every DT to ``end`` (NaN after)."""
     kb = blast_parameters(Z, W)
-    P, T, ta = kb.incident_overpressure, kb.positive_duration, kb.arrival_time + 0.37 * DT
-    fine = DT / 20
-    tf = np.arange(0.0, T_END, fine)
-    tau = tf - ta
-    w = np.where(tau >= 0, P * (1 - tau / T) * np.exp(-ALPHA * tau / T), 0.0)
-    if smear:
-        w = gaussian_filter1d(w, smear * T / fine, mode="nearest")
     t = np.arange(0.0, T_END, DT)
-    return np.where(t <= end, P0 + np.interp(t, tf, w), np.nan)
+    wave = friedlander_overpressure(t, kb.incident_overpressure, kb.positive_duration, ALPHA,
+                                    kb.arrival_time + 0.37 * DT, smear)
+    return np.where(t <= end, P0 + wave, np.nan)
 
 
 def gauges(records: dict) -> xr.Dataset:

@@ -338,22 +338,29 @@ def test_peak_skips_a_start_up_spike():
         peak(series(t, v), P0, fit_window=(0.2, 0.1))
 
 
-def smeared_friedlander(width, end=2.0, samples=400, jump=0.30137):
-    """The Friedlander wave of the constants above, its jump at ``jump``
-    (between samples), convolved with a Gaussian of standard deviation
-    ``width`` T (a captured shock: its impulse kept) and sampled every
-    T/``samples`` to t = ``end`` T."""
-    fine = T / (20 * samples)
-    tf = np.arange(0.0, end * T, fine)
+def friedlander_overpressure(t, P, T, alpha, jump, smear=0.0):
+    """The Friedlander overpressure P (1 − τ/T) e^{−α τ/T}, τ = t − ``jump``
+    (0 before it), convolved with a Gaussian of standard deviation ``smear``
+    T (a captured shock: its impulse kept), at the evenly spaced times ``t``
+    (worked out on a grid twenty times finer)."""
+    fine = (t[1] - t[0]) / 20
+    tf = np.arange(0.0, t[-1] + 20 * fine, fine)
     tau = tf - jump
-    w = np.where(tau >= 0, P * (1 - tau / T) * np.exp(-ALPHA * tau / T), 0.0)
-    if width > 0:
-        w = gaussian_filter1d(w, width * T / fine, mode="nearest")
-    t = np.arange(0.0, end * T, T / samples)
-    return series(t, P0 + np.interp(t, tf, w))
+    w = np.where(tau >= 0, P * (1 - tau / T) * np.exp(-alpha * tau / T), 0.0)
+    if smear > 0:
+        w = gaussian_filter1d(w, smear * T / fine, mode="nearest")
+    return np.interp(t, tf, w)
 
 
 TS = 0.30137
+
+
+def smeared_friedlander(width, end=2.0, samples=400, jump=TS):
+    """The Friedlander wave of the constants above, its jump at ``jump``
+    (between samples), smeared by ``width`` T and sampled every
+    T/``samples`` to t = ``end`` T."""
+    t = np.arange(0.0, end * T, T / samples)
+    return series(t, P0 + friedlander_overpressure(t, P, T, ALPHA, jump, width))
 
 
 @pytest.mark.parametrize("width", [0.005, 0.01, 0.02, 0.04])

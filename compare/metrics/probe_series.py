@@ -291,8 +291,9 @@ def shock_fitted_peak(series: xr.DataArray, baseline: float, lag: float = 1.0, w
                          f"(lag={lag:g} rise times past the maximum): lower lag, or the shock is too wide to fit behind.")
     hi = tw + width * duration
     sel = (t >= tw) & (t <= hi) & (t < te) & (v > baseline)
-    if np.count_nonzero(sel) < 3:
-        raise ValueError(f"the fit window [{tw:g}, {hi:g}] holds {np.count_nonzero(sel)} usable samples (need 3); "
+    n_fit = int(np.count_nonzero(sel))
+    if n_fit < 3:
+        raise ValueError(f"the fit window [{tw:g}, {hi:g}] holds {n_fit} usable samples (need 3); "
                          f"widen width or sample more often.")
     y = np.log(v[sel] - baseline) - np.log(te - t[sel])
     c1, c0 = np.polyfit(t[sel] - ta, y, 1)
@@ -315,7 +316,7 @@ def shock_fitted_peak(series: xr.DataArray, baseline: float, lag: float = 1.0, w
                          "the series is not a blast wave.")
     ts = brentq(lambda s: impulse_from(s) - impulse, earliest, tw)
     return dict(peak=baseline + float(wave(ts)), shock_time=float(ts), raw=float(v.max()), arrival=ta,
-                window=(float(tw), float(hi)), n_fit=int(np.count_nonzero(sel)), fit_rms=fit_rms)
+                window=(float(tw), float(hi)), n_fit=n_fit, fit_rms=fit_rms)
 
 
 def first_crest(series: xr.DataArray, threshold_fraction: float = 0.1) -> dict:
