@@ -40,80 +40,16 @@ import numpy as np
 from numba import prange
 
 from partmesh.compare.checks import InputError
+from partmesh.particle.cell_grid import CELL_MARGIN, cell_grid, cell_ids, cell_support, counting_sort
+from partmesh.particle.pair_geometry import image, separations
+from partmesh.particle.positions import box_corners, periodicity, positions
 
-__all__ = ["cell_grid", "cell_support", "counting_sort", "nearby_maximum", "neighbour_lists", "neighbours", "padded",
-           "periods", "renumbered", "separation", "separations", "sort_order"]
-
-# Cells are made this much wider than max H / reach, so that a particle put
-# one cell off by round-off still finds every neighbour.
-_MARGIN = 1.0 + 1e-9
+__all__ = ["neighbour_lists", "neighbours", "renumbered"]
 
 
 # --------------------------------------------------------------------------
 # numba kernels
 # --------------------------------------------------------------------------
-
-
-@numba.njit(cache=True, inline="always")
-def _cell_index(xa, origin, width, ncell, per):
-    """Cell index of coordinate ``xa`` along one axis (wrapped or clamped)."""
-    c = math.floor((xa - origin) / width)
-    if per:
-        c = c % ncell
-        if c < 0:
-            c += ncell
-    else:
-        if c < 0:
-            c = 0
-        elif c >= ncell:
-            c = ncell - 1
-    return c
-
-
-@numba.njit(cache=True, parallel=True)
-def _cell_ids(x, origin, width, ncell, per):
-    """Linear cell id ``(cz·ny + cy)·nx + cx`` of every particle."""
-    n, dim = x.shape
-    cid = np.empty(n, dtype=np.int64)
-    for i in prange(n):
-        c = 0
-        for a in range(dim - 1, -1, -1):
-            c = c * ncell[a] + _cell_index(x[i, a], origin[a], width[a], ncell[a], per[a])
-        cid[i] = c
-    return cid
-
-
-@numba.njit(cache=True)
-def counting_sort(cid, ntot):
-    """Stable counting sort: ``order`` lists particles cell by cell (index
-    order within a cell); ``start[c]:start[c+1]`` is cell c's slice."""
-    n = cid.size
-    start = np.zeros(ntot + 1, dtype=np.int64)
-    for i in range(n):
-        start[cid[i] + 1] += 1
-    for c in range(ntot):
-        start[c + 1] += start[c]
-    fill = start[:-1].copy()
-    order = np.empty(n, dtype=np.int64)
-    for i in range(n):
-        c = cid[i]
-        order[fill[c]] = i
-        fill[c] += 1
-    return start, order
-
-
-@numba.njit(cache=True)
-def _cell_maxima(cid, values, ntot):
-    """Column by column, the largest of ``values`` (n, k) in each of the
-    ``ntot`` cells (−inf in an empty cell)."""
-    n, k = values.shape
-    out = np.full((ntot, k), -np.inf)
-    for i in range(n):
-        c = cid[i]
-        for j in range(k):
-            if values[i, j] > out[c, j]:
-                out[c, j] = values[i, j]
-    return out
 
 
 @numba.njit(cache=True, parallel=True)
@@ -167,52 +103,17 @@ def _runs(c, n, per, s):
 
 
 @numba.njit(cache=True, inline="always")
-def _image(d, box, half):
-    """Minimum image of a separation |d| < 1.5·box (half = box/2 on a
-    periodic axis, +inf otherwise); branch-free so the loops vectorise."""
-    return d - box * ((d > half) - (d < -half))
-
-
-@numba.njit(cache=True, inline="always")
-def _nearest(d, box, half):
-    """Minimum image of a separation |d| < 1.5·box, with branches: in the
-    pair loops of the particle kernels they are always predicted (never
-    taken on a non-periodic axis, where ``half`` is +inf), which is cheaper
-    there than :func:`_image`'s arithmetic."""
-    if d > half:
-        return d - box
-    if d < -half:
-        return d + box
-    return d
-
-
-@numba.njit(cache=True, inline="always")
-def separation(x, i, j, box, half):
-    """``(d0, d1, d2, r²)``: ``x_i − x_j`` per axis, the minimum image on
-    periodic axes (positions within 1.5 periods of each other), and its
-    squared length (a pair loop compares r² with the supports before it
-    takes the root). ``x`` is (n, 3), zero beyond the problem's dimension
-    (:func:`padded`), so the pair loops carry no branch on the dimension;
-    ``box``, ``half`` from :func:`periods`. The one place the particle
-    kernels get pair geometry from."""
-    d0 = _nearest(x[i, 0] - x[j, 0], box[0], half[0])
-    d1 = _nearest(x[i, 1] - x[j, 1], box[1], half[1])
-    d2 = _nearest(x[i, 2] - x[j, 2], box[2], half[2])
-    return d0, d1, d2, d0 * d0 + d1 * d1 + d2 * d2
-
-
-@numba.njit(cache=True, inline="always")
 def _r2(xi0, xi1, xi2, xs0, xs1, xs2, kk, dim, box, half):
     """|x_i − x_kk|² (minimum image) of sorted particle kk from the point
     (xi0, xi1, xi2), summed in one fixed order: every pass that tests a pair
     tests it with the same arithmetic, so a pair is never lost or doubled."""
-    d0 = _image(xi0 - xs0[kk], box[0], half[0])
+    d0 = image(xi0 - xs0[kk], box[0], half[0])
     if dim == 1:
         return d0 * d0
-    d1 = _image(xi1 - xs1[kk], box[1], half[1])
+    d1 = image(xi1 - xs1[kk], box[1], half[1])
     if dim == 2:
         return d0 * d0 + d1 * d1
-    d2 = _image(xi2 - xs2[kk], box[2], half[2])
+    d2 = image(xi2 - xs2[kk], box[2], half[2])
     return d0 * d0 + d1 * d1 + d2 * d2
 
 
@@ -396,104 +297,9 @@ def _renumbered(offsets, index, order, new_id):
     return new_offsets, new_index
 
 
-@numba.njit(cache=True, parallel=True)
-def _separations(x, offsets, index, box, half):
-    """``x_i − x_j`` (the minimum image where ``half`` is finite, for
-    positions any number of periods apart) and its length."""
-    n, dim = x.shape
-    dx = np.empty((index.size, dim))
-    r = np.empty(index.size)
-    for i in prange(n):
-        for q in range(offsets[i], offsets[i + 1]):
-            r2 = 0.0
-            for a in range(dim):
-                d = x[i, a] - x[index[q], a]
-                if half[a] < math.inf:
-                    d -= box[a] * math.floor(d / box[a] + 0.5)
-                dx[q, a] = d
-                r2 += d * d
-            r[q] = math.sqrt(r2)
-    return dx, r
-
-
 # --------------------------------------------------------------------------
 # Python API
 # --------------------------------------------------------------------------
-
-
-def _as_positions(x):
-    try:
-        x = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("x must be a numeric array of positions with shape (n, dim).") from None
-    if x.ndim == 1:
-        x = x[:, None]
-    if x.ndim != 2 or x.shape[1] not in (1, 2, 3):
-        raise InputError(f"x must have shape (n, dim) with dim 1, 2 or 3; got shape {x.shape}.")
-    if not np.all(np.isfinite(x)):
-        raise InputError("x (particle positions) must be finite; found NaN or inf.")
-    return np.ascontiguousarray(x)
-
-
-def _as_box(name, value, dim):
-    try:
-        v = np.asarray(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be {dim} finite numbers (one per axis).") from None
-    if v.size == 1 and dim > 1:
-        v = np.repeat(v, dim)
-    if v.size != dim or not np.all(np.isfinite(v)):
-        raise InputError(f"{name} must be {dim} finite numbers (one per axis); got {value!r}.")
-    return v
-
-
-def _as_periodic(periodic, dim):
-    p = np.asarray(periodic).reshape(-1)
-    if p.size == 1 and dim > 1:
-        p = np.repeat(p, dim)
-    if p.size != dim or not all(isinstance(b, (bool, np.bool_)) or b in (0, 1) for b in p.tolist()):
-        raise InputError(f"periodic must be {dim} booleans (one per axis); got {periodic!r}.")
-    return p.astype(np.bool_)
-
-
-def cell_grid(x, lo, hi, periodic, cell_size):
-    """Cell grid used by the search: ``(origin, width, ncell, per, box)``, each of length 3.
-
-    Along a periodic axis the grid covers ``[lo, hi)`` with
-    ``ncell = floor((hi − lo) / cell_size)`` cells (at least 1); along a
-    non-periodic axis it covers the bounding box of ``[lo, hi]`` and the
-    particles. Cells are at least ``cell_size`` wide. Unused axes (beyond
-    ``dim``) get one cell. The total cell count is capped near ``4 n + 64``
-    by widening the cells, so a stray particle far away cannot blow up memory.
-    """
-    n, dim = x.shape
-    origin = np.zeros(3)
-    extent = np.ones(3)
-    per = np.zeros(3, dtype=np.bool_)
-    box = np.ones(3)
-    for a in range(dim):
-        per[a] = bool(periodic[a])
-        if per[a]:
-            origin[a] = lo[a]
-            extent[a] = hi[a] - lo[a]
-            box[a] = hi[a] - lo[a]
-        else:
-            lo_a = min(lo[a], x[:, a].min()) if n else lo[a]
-            hi_a = max(hi[a], x[:, a].max()) if n else hi[a]
-            origin[a] = lo_a
-            extent[a] = max(hi_a - lo_a, np.finfo(float).tiny)
-            box[a] = extent[a]
-    cs = float(cell_size) * _MARGIN
-    cap = 4 * n + 64
-    while True:
-        ncell = np.ones(3, dtype=np.int64)
-        for a in range(dim):
-            ncell[a] = max(1, min(int(extent[a] / cs), 2**40))
-        if int(np.prod(ncell.astype(np.float64))) <= cap:
-            break
-        cs *= 1.25
-    width = extent / ncell
-    return origin, width, ncell, per, box
 
 
 def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=None):
@@ -534,7 +340,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         interleaved runs each: search 3.2–3.5 s with 64-bit ids, 2.7–3.0 s
         with 32-bit; 4.75–4.98e5 against 5.03–5.31e5 particle-steps/s).
 
-    :func:`separations` gives ``x_i − x_j`` and ``r_ij`` for the lists (at
+    :func:`~partmesh.particle.pair_geometry.separations` gives ``x_i − x_j`` and ``r_ij`` for the lists (at
     these or later positions); :func:`neighbours` returns both at once.
 
     The criterion ``r_ij < max(H_i, H_j)`` is symmetric (j is in i's list iff
@@ -542,10 +348,10 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     Monaghan (2005) §7: cells ≥ max H / reach wide, counting sort,
     (2·reach+1)^dim-cell stencil, two parallel passes (count, fill). When a
     few particles are much wider than the rest the cells are sized for the
-    rest (:func:`cell_support`) and the wide ones scan wider stencils.
+    rest (:func:`~partmesh.particle.cell_grid.cell_support`) and the wide ones scan wider stencils.
     Cost O(N · neighbours).
     """
-    x = _as_positions(x)
+    x = positions(x)
     n, dim = x.shape
     try:
         H = np.asarray(H, dtype=np.float64)
@@ -557,11 +363,11 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         raise InputError(f"H must have shape ({n},) (one support radius per particle); got {H.shape}.")
     if n and (not np.all(np.isfinite(H)) or np.any(H <= 0)):
         raise InputError("H (support radius) must be finite and > 0 for every particle.")
-    lo = _as_box("lo", lo, dim)
-    hi = _as_box("hi", hi, dim)
+    lo = box_corners("lo", lo, dim)
+    hi = box_corners("hi", hi, dim)
     if np.any(hi <= lo):
         raise InputError(f"hi must exceed lo on every axis; got lo={lo.tolist()}, hi={hi.tolist()}.")
-    per = _as_periodic(periodic, dim)
+    per = periodicity(periodic, dim)
     if not isinstance(sort_lists, (bool, np.bool_)):
         raise InputError(f"sort_lists must be True or False; got {sort_lists!r}.")
     if isinstance(reach, bool) or not isinstance(reach, (int, np.integer)) or not 1 <= reach <= 4:
@@ -585,7 +391,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     s = int(reach)
     H_cell = cell_support(H)
     origin, width, ncell, per3, box = cell_grid(x, lo, hi, per, H_cell / s)
-    cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
+    cid = cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
     start, order = counting_sort(cid, int(np.prod(ncell)))
     xs0, xs1, xs2, Hs, cid3 = _gather(x, H, order, cid, ncell, origin, per3, box)
     half = np.where(per3, 0.5 * box, np.inf)
@@ -593,7 +399,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     is_large = H > H_cell
     big = is_large[order]
     cell_width = width[:dim].min()
-    sk = np.where(big, np.ceil(Hs / (cell_width / _MARGIN)).astype(np.int64), s)
+    sk = np.where(big, np.ceil(Hs / (cell_width / CELL_MARGIN)).astype(np.int64), s)
     Hsmall = np.where(big, 0.0, Hs)
     counts, maxc = _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
                                rows)
@@ -639,112 +445,11 @@ def renumbered(offsets, index, order):
     return _renumbered(np.asarray(offsets, np.int64), np.asarray(index), order, new_id)
 
 
-def periods(lo, hi, periodic, dim):
-    """``(box, half)`` for :func:`separation`, three entries each: the box
-    size per axis and half the period on periodic axes (+inf elsewhere and
-    beyond ``dim``)."""
-    lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
-    box, half = np.ones(3), np.full(3, np.inf)
-    box[:dim] = hi - lo
-    half[:dim] = np.where(_as_periodic(periodic, dim), 0.5 * box[:dim], np.inf)
-    return box, half
-
-
-def nearby_maximum(x, values, lo, hi, periodic, distance) -> np.ndarray:
-    """For each point, a bound from above on the largest of ``values`` ((n,)
-    or (n, k): column by column) over the points within ``distance`` of it
-    (minimum image on periodic axes), itself included: the largest over the
-    3^dim cells around its own on a grid of cells at least ``distance``
-    wide. O(N) with a cell count capped as in :func:`cell_grid`; positions
-    may lie outside a non-periodic box."""
-    x = _as_positions(x)
-    n, dim = x.shape
-    values = np.asarray(values, dtype=np.float64)
-    if n == 0:
-        return values.copy()
-    lo, hi = _as_box("lo", lo, dim), _as_box("hi", hi, dim)
-    origin, width, ncell, per, _ = cell_grid(x, lo, hi, _as_periodic(periodic, dim), float(distance))
-    cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per[:dim])
-    cells = _cell_maxima(cid, values.reshape(n, -1), int(np.prod(ncell)))
-    cells = cells.reshape(tuple(ncell[::-1]) + values.shape[1:])  # (z, y, x): the id is (cz·ny + cy)·nx + cx
-    for a in range(dim):
-        axis = 2 - a
-        if ncell[a] == 1:
-            continue
-        if per[a]:
-            cells = np.maximum(cells, np.maximum(np.roll(cells, 1, axis), np.roll(cells, -1, axis)))
-        else:
-            grown = cells.copy()
-            lower = [slice(None)] * cells.ndim
-            upper = [slice(None)] * cells.ndim
-            lower[axis], upper[axis] = slice(None, -1), slice(1, None)
-            np.maximum(grown[tuple(lower)], cells[tuple(upper)], out=grown[tuple(lower)])
-            np.maximum(grown[tuple(upper)], cells[tuple(lower)], out=grown[tuple(upper)])
-            cells = grown
-    return cells.reshape((-1,) + values.shape[1:])[cid]
-
-
-def padded(a) -> np.ndarray:
-    """(n, 3) contiguous float copy of positions or vectors ``a`` (n, dim),
-    zero beyond ``dim``: the layout :func:`separation` and the pair kernels read."""
-    a = np.asarray(a, dtype=np.float64)
-    out = np.zeros((a.shape[0], 3))
-    out[:, : a.shape[1]] = a
-    return out
-
-
-def separations(x, offsets, index, lo, hi, periodic=False):
-    """``(dx, r)`` of CSR neighbour lists: ``dx = x_i − x_j`` (m, dim),
-    minimum image on periodic axes, and ``r = |dx|`` (m,)."""
-    x = _as_positions(x)
-    box, half = periods(lo, hi, periodic, x.shape[1])
-    return _separations(x, np.asarray(offsets, np.int64), np.asarray(index), box, half)
-
-
 def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=None):
-    """:func:`neighbour_lists` and their :func:`separations`:
+    """:func:`neighbour_lists` and their :func:`~partmesh.particle.pair_geometry.separations`:
     ``(offsets, index, dx, r)`` with ``dx = x_i − x_j`` and ``r = |dx|``."""
     offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, reach=reach, rows=rows)
     dx, r = separations(x, offsets, index, lo, hi, periodic)
     return offsets, index, dx, r
 
 
-def cell_support(H) -> float:
-    """The support the cells are sized for: ``max H``, unless the widest
-    particles are few (H above the 95th percentile by more than a quarter),
-    in which case the 95th percentile; the wider ones then scan stencils of
-    their own. (One cell size for all would make every particle test
-    ``(max H / H)^dim`` times too many candidates, e.g. around a blast's
-    rarefied core.)"""
-    H_max = float(H.max())
-    H_q = float(np.partition(H, int(0.95 * (H.size - 1)))[int(0.95 * (H.size - 1))])
-    return H_max if H_max <= 1.25 * H_q else H_q
-
-
-def sort_order(x, lo, hi, cell_size):
-    r"""Permutation that orders particles cell by cell, for re-sorting particle
-    arrays in memory (``x[order]``, ``m[order]``, ...) so that neighbours sit
-    close together (better cache use; Domínguez et al. 2011, §3).
-
-    Cells of width ≥ ``cell_size`` (> 0) on the bounding box of ``[lo, hi]``
-    and the particles, numbered with x fastest; stable counting sort, O(N),
-    so particles of one cell keep their relative order.
-    """
-    x = _as_positions(x)
-    n, dim = x.shape
-    lo = _as_box("lo", lo, dim)
-    hi = _as_box("hi", hi, dim)
-    if np.any(hi <= lo):
-        raise InputError(f"hi must exceed lo on every axis; got lo={lo.tolist()}, hi={hi.tolist()}.")
-    try:
-        cs = float(cell_size)
-    except (TypeError, ValueError):
-        raise InputError(f"cell_size must be a finite number > 0; got {cell_size!r}.") from None
-    if not (math.isfinite(cs) and cs > 0):
-        raise InputError(f"cell_size must be a finite number > 0; got {cell_size!r}.")
-    if n == 0:
-        return np.zeros(0, dtype=np.int64)
-    origin, width, ncell, per3, _ = cell_grid(x, lo, hi, np.zeros(dim, bool), cs)
-    cid = _cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per3[:dim])
-    _, order = counting_sort(cid, int(np.prod(ncell)))
-    return order

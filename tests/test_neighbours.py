@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from partmesh.compare.checks import InputError
-from partmesh.particle.neighbours import nearby_maximum, neighbour_lists, neighbours, renumbered, sort_order
+from partmesh.particle.cell_grid import nearby_maximum, sort_order
+from partmesh.particle.neighbours import neighbour_lists, neighbours, renumbered
 
 
 def brute(x, H, lo, hi, periodic):

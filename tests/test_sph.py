@@ -11,7 +11,8 @@ import partmesh
 from partmesh.compare.convergence import observed_order
 from partmesh.compare.metrics import field_error
 from partmesh.particle import kernels
-from partmesh.particle.neighbours import neighbour_lists, padded, periods
+from partmesh.particle.neighbours import neighbour_lists
+from partmesh.particle.pair_geometry import padded, periods
 from partmesh.particle.sph.density import density_and_support
 from partmesh.particle.sph.particles import place_2d, reflect_at_plane_walls
 from partmesh.particle.sph.switches import conduction_switch

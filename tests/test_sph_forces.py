@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from partmesh.particle import kernels
-from partmesh.particle.neighbours import neighbour_lists, padded, periods
+from partmesh.particle.neighbours import neighbour_lists
+from partmesh.particle.pair_geometry import padded, periods
 from partmesh.particle.sph.forces import rates
 
 KIND = kernels.KERNELS["wendland_c6"]

@@ -19,7 +19,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape, shape_derivative
-from partmesh.particle.neighbours import separation
+from partmesh.particle.pair_geometry import separation
 
 #: relative tolerance of the H iteration
 TOLERANCE = 1e-8
@@ -53,10 +53,11 @@ _CHUNK = 256
 def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, eta, n):
     """``(rho, H, omega, converged)`` for the first ``n`` particles (the
     fluid; ghosts follow them and only serve as neighbours) at positions
-    ``x`` (``box``, ``half``: see :func:`partmesh.particle.neighbours.periods`).
+    ``x`` (``box``, ``half``: see :func:`partmesh.particle.pair_geometry.periods`).
 
-    ``x`` is (N, 3) (:func:`partmesh.particle.neighbours.padded`). ``H`` is the starting guess and ``H_max`` the largest support the
-    neighbour lists were built for (the solution is kept below it).
+    ``x`` is (N, 3) (:func:`partmesh.particle.pair_geometry.padded`). ``H`` is
+    the starting guess and ``H_max`` the largest support the neighbour lists
+    were built for (the solution is kept below it).
     Distances are computed once per particle into a scratch list shared by
     a chunk of particles, then every iteration reads them.
     """

@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape_derivative
-from partmesh.particle.neighbours import separation
+from partmesh.particle.pair_geometry import separation
 
 #: the columns of the per-particle table the pair loop reads (x: 0–2)
 _V, _M, _U, _RHO, _P, _C, _ALPHA, _ALPHA_U, _INV_H, _GRAD, _P_TERM, _VOLUME, _FIELDS = (
@@ -42,9 +42,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     neighbours); ``interactions`` counts the ordered pairs (i fluid, j) with
     r_ij < max(H_i, H_j) whose terms were summed.
 
-    ``x`` is (N, 3) (:func:`partmesh.particle.neighbours.padded`: zeros beyond
+    ``x`` is (N, 3) (:func:`partmesh.particle.pair_geometry.padded`: zeros beyond
     ``dim``) and ``v`` (N, dim) or (N, 3), ``box``/``half`` as from
-    :func:`partmesh.particle.neighbours.periods`.
+    :func:`partmesh.particle.pair_geometry.periods`.
     Each fluid–fluid pair is evaluated once, in the row of its smaller index,
     and its terms are added to both particles (the lists are symmetric: j is
     in i's list exactly when i is in j's). The rows are cut into ``chunks``

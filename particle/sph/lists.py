@@ -11,7 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from partmesh.particle.neighbours import cell_support, nearby_maximum, neighbour_lists, periods, renumbered
+from partmesh.particle.cell_grid import cell_support, nearby_maximum
+from partmesh.particle.neighbours import neighbour_lists, renumbered
+from partmesh.particle.pair_geometry import periods
 from partmesh.particle.sph.particles import mirror_ghosts, mirror_images
 
 
@@ -113,7 +115,7 @@ class VerletLists:
         The displacements of the j near i are bounded component by component
         by |δ_i| + max |δ| (cheap, and enough most steps) and, where that is
         not enough, by the range over the cells around i
-        (:func:`~partmesh.particle.neighbours.nearby_maximum`; the range of all for
+        (:func:`~partmesh.particle.cell_grid.nearby_maximum`; the range of all for
         the few supports wider than the cells), so gas that streams as a
         whole, as at an inlet, keeps its lists, and a fast stream does not
         use up the skin of the slow gas far from it. Positions are compared

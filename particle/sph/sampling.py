@@ -15,8 +15,8 @@ import math
 import numba
 import numpy as np
 
+from partmesh.particle.cell_grid import counting_sort
 from partmesh.particle.kernels import kernel_w
-from partmesh.particle.neighbours import counting_sort
 
 
 @numba.njit(parallel=True, cache=True)

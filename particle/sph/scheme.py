@@ -23,7 +23,8 @@ import numba
 import numpy as np
 
 from partmesh.particle import kernels
-from partmesh.particle.neighbours import neighbour_lists, padded
+from partmesh.particle.neighbours import neighbour_lists
+from partmesh.particle.pair_geometry import padded
 from partmesh.particle.sph.axis import axis_density, axis_factors
 from partmesh.particle.sph.density import density_and_support
 from partmesh.particle.sph.forces import rates

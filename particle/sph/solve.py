@@ -23,8 +23,8 @@ from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import StepFailed, landed
 from partmesh.cases.scene import Inflow
 from partmesh.compare.io import particle_snapshot
+from partmesh.particle.cell_grid import sort_order
 from partmesh.particle.march import march_particles
-from partmesh.particle.neighbours import sort_order
 from partmesh.particle.sph.inflow import InflowBuffer
 from partmesh.particle.sph.integrator import MIN_STEP_FRACTION, Switches, Unstable, leapfrog, time_step
 from partmesh.particle.sph.method import SPHSettings, has_inlet

@@ -78,8 +78,8 @@ from scipy.spatial import cKDTree
 
 from partmesh.cases.errors import InputError
 from partmesh.compare.checks import positive
+from partmesh.particle.cell_grid import cell_grid, counting_sort
 from partmesh.particle.kernels import kernel_id, skewed_grad, skewed_w
-from partmesh.particle.neighbours import cell_grid, counting_sort
 from partmesh.particle.sph.wall_placement import Wall, periodic_images
 
 #: c in the skewness λ = −c n̂ (Prasanna Kumar et al. 2018).

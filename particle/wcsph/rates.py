@@ -43,7 +43,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape_derivative
-from partmesh.particle.neighbours import separation
+from partmesh.particle.pair_geometry import separation
 
 #: a renormalisation matrix whose determinant is below this fraction of (trace/2)² (particles with
 #: neighbours on a line only) gives no gradient
@@ -115,7 +115,7 @@ def rates(x, box, half, v, m, rho, p, c, rho_dynamic, G, H, c0, alpha, delta, of
     density rate, the largest |μ_ab| each particle sees (for the time step)
     and the number of ordered pairs (a fluid, b) with r_ab < H summed.
 
-    ``x`` and ``v`` are (N, 3) (:func:`partmesh.particle.neighbours.padded`),
+    ``x`` and ``v`` are (N, 3) (:func:`partmesh.particle.pair_geometry.padded`),
     ``rho_dynamic`` is ρ − ρ_H and ``G`` (N, 3) its renormalised gradient
     (:func:`dynamic_density_gradients`; mirrored for the ghosts). As :func:`partmesh.particle.sph.forces.rates`: each
     fluid–fluid pair is evaluated once, in the row of its smaller index, and

@@ -34,8 +34,9 @@ from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import StepFailed, landed
 from partmesh.compare.io import particle_snapshot
 from partmesh.particle import kernels
+from partmesh.particle.cell_grid import sort_order
 from partmesh.particle.march import march_particles
-from partmesh.particle.neighbours import padded, sort_order
+from partmesh.particle.pair_geometry import padded
 from partmesh.particle.sph.lists import PerParticle, VerletLists
 from partmesh.particle.sph.particles import mirror_ghosts, reflect_at_plane_walls
 from partmesh.particle.sph.sampling import kernel_sums_at_points, kernel_sums_on_grid

@@ -1,0 +1,45 @@
+"""Particle positions, box corners and periodic axes as the particle kernels take them, each checked
+once at the entry of a public function with a one-sentence error naming the argument."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from partmesh.compare.checks import InputError
+
+__all__ = ["box_corners", "periodicity", "positions"]
+
+
+def positions(x):
+    try:
+        x = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError("x must be a numeric array of positions with shape (n, dim).") from None
+    if x.ndim == 1:
+        x = x[:, None]
+    if x.ndim != 2 or x.shape[1] not in (1, 2, 3):
+        raise InputError(f"x must have shape (n, dim) with dim 1, 2 or 3; got shape {x.shape}.")
+    if not np.all(np.isfinite(x)):
+        raise InputError("x (particle positions) must be finite; found NaN or inf.")
+    return np.ascontiguousarray(x)
+
+
+def box_corners(name, value, dim):
+    try:
+        v = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be {dim} finite numbers (one per axis).") from None
+    if v.size == 1 and dim > 1:
+        v = np.repeat(v, dim)
+    if v.size != dim or not np.all(np.isfinite(v)):
+        raise InputError(f"{name} must be {dim} finite numbers (one per axis); got {value!r}.")
+    return v
+
+
+def periodicity(periodic, dim):
+    p = np.asarray(periodic).reshape(-1)
+    if p.size == 1 and dim > 1:
+        p = np.repeat(p, dim)
+    if p.size != dim or not all(isinstance(b, (bool, np.bool_)) or b in (0, 1) for b in p.tolist()):
+        raise InputError(f"periodic must be {dim} booleans (one per axis); got {periodic!r}.")
+    return p.astype(np.bool_)
