@@ -17,6 +17,8 @@ from partmesh.compare.report import table
 
 scene = pm.scene("sod")
 ladders = {"fv": (1 / 100, 1 / 200, 1 / 400, 1 / 800), "sph": (1 / 200, 1 / 400), "dsmc": (1 / 100, 1 / 200)}
+
+
 def timed_run(method, dx):
     """A run after a first one at the same size (untimed): the first call at a
     new size pays one-off costs (buffers, caches) that are not the method's."""

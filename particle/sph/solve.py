@@ -48,6 +48,8 @@ KINDS = {"fluid": 0, "wall": 1, "buffer": 2}
 SUPPORT_GROWTH = 1.15
 #: the particle arrays are re-sorted along the search cells every so many steps
 RESORT_STEPS = 10
+
+
 def solve(scene, settings: SPHSettings):
     """Run ``scene`` with compressible SPH and checked ``settings``
     (:class:`~partmesh.particle.sph.method.SPHSettings`).
