@@ -39,6 +39,7 @@ BUILT_IN = ("dsmc", "fv", "hybrid", "sph", "swe", "wcsph")
 #: what a result's ``method`` may name besides a method
 EXACT = "exact"
 
+
 def methods() -> tuple[str, ...]:
     """The methods a result may name: this package's, every method
     registered in :data:`METHOD_GROUP` (another package's too), and

@@ -451,5 +451,3 @@ def neighbours(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, rows=
     offsets, index = neighbour_lists(x, H, lo, hi, periodic, sort_lists=sort_lists, reach=reach, rows=rows)
     dx, r = separations(x, offsets, index, lo, hi, periodic)
     return offsets, index, dx, r
-
-

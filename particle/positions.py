@@ -11,6 +11,7 @@ __all__ = ["box_corners", "periodicity", "positions"]
 
 
 def positions(x):
+    """``x`` as a contiguous (n, dim) float array, dim 1, 2 or 3 (a 1D array is read as (n, 1)), finite."""
     try:
         x = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError):
@@ -25,6 +26,7 @@ def positions(x):
 
 
 def box_corners(name, value, dim):
+    """The box corner ``name`` (``lo`` or ``hi``) as ``dim`` finite floats; a single number stands for every axis."""
     try:
         v = np.asarray(value, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
@@ -37,6 +39,7 @@ def box_corners(name, value, dim):
 
 
 def periodicity(periodic, dim):
+    """``periodic`` as ``dim`` booleans, one per axis; a single one stands for every axis."""
     p = np.asarray(periodic).reshape(-1)
     if p.size == 1 and dim > 1:
         p = np.repeat(p, dim)

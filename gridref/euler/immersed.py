@@ -195,6 +195,7 @@ class ImmersedBoundary:
         _, label = np.unique(self.group[members], return_inverse=True)
         return members, label
 
+
 def neighbourhoods(cells, shape, periodic) -> np.ndarray:
     """Per flat cell index in ``cells`` of a ``shape`` = (ny, nx) grid, the
     flat indices of its 3 × 3 neighbourhood as ``[dx][dy]``, dx, dy = −1,
