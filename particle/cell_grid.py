@@ -16,7 +16,7 @@ import numpy as np
 from numba import prange
 
 from partmesh.compare.checks import InputError
-from partmesh.particle.positions import box_corners, periodicity, positions
+from partmesh.particle.positions import box_corners, ordered_box, periodicity, positions
 
 __all__ = ["CELL_MARGIN", "cell_grid", "cell_ids", "cell_support", "counting_sort", "nearby_maximum", "sort_order"]
 
@@ -150,10 +150,7 @@ def sort_order(x, lo, hi, cell_size):
     """
     x = positions(x)
     n, dim = x.shape
-    lo = box_corners("lo", lo, dim)
-    hi = box_corners("hi", hi, dim)
-    if np.any(hi <= lo):
-        raise InputError(f"hi must exceed lo on every axis; got lo={lo.tolist()}, hi={hi.tolist()}.")
+    lo, hi = ordered_box(lo, hi, dim)
     try:
         cs = float(cell_size)
     except (TypeError, ValueError):
@@ -180,7 +177,7 @@ def nearby_maximum(x, values, lo, hi, periodic, distance) -> np.ndarray:
     values = np.asarray(values, dtype=np.float64)
     if n == 0:
         return values.copy()
-    lo, hi = box_corners("lo", lo, dim), box_corners("hi", hi, dim)
+    lo, hi = box_corners(lo, hi, dim)
     origin, width, ncell, per, _ = cell_grid(x, lo, hi, periodicity(periodic, dim), float(distance))
     cid = cell_ids(x, origin[:dim], width[:dim], ncell[:dim], per[:dim])
     cells = _cell_maxima(cid, values.reshape(n, -1), int(np.prod(ncell)))

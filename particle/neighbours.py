@@ -42,7 +42,7 @@ from numba import prange
 from partmesh.compare.checks import InputError
 from partmesh.particle.cell_grid import CELL_MARGIN, cell_grid, cell_ids, cell_support, counting_sort
 from partmesh.particle.pair_geometry import image, separations
-from partmesh.particle.positions import box_corners, periodicity, positions
+from partmesh.particle.positions import ordered_box, periodicity, positions
 
 __all__ = ["neighbour_lists", "neighbours", "renumbered"]
 
@@ -363,10 +363,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         raise InputError(f"H must have shape ({n},) (one support radius per particle); got {H.shape}.")
     if n and (not np.all(np.isfinite(H)) or np.any(H <= 0)):
         raise InputError("H (support radius) must be finite and > 0 for every particle.")
-    lo = box_corners("lo", lo, dim)
-    hi = box_corners("hi", hi, dim)
-    if np.any(hi <= lo):
-        raise InputError(f"hi must exceed lo on every axis; got lo={lo.tolist()}, hi={hi.tolist()}.")
+    lo, hi = ordered_box(lo, hi, dim)
     per = periodicity(periodic, dim)
     if not isinstance(sort_lists, (bool, np.bool_)):
         raise InputError(f"sort_lists must be True or False; got {sort_lists!r}.")

@@ -55,7 +55,7 @@ def periods(lo, hi, periodic, dim):
     """``(box, half)`` for :func:`separation`, three entries each: the box
     size per axis and half the period on periodic axes (+inf elsewhere and
     beyond ``dim``)."""
-    lo, hi = box_corners("lo", lo, dim), box_corners("hi", hi, dim)
+    lo, hi = box_corners(lo, hi, dim)
     box, half = np.ones(3), np.full(3, np.inf)
     box[:dim] = hi - lo
     half[:dim] = np.where(periodicity(periodic, dim), 0.5 * box[:dim], np.inf)

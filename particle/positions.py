@@ -7,7 +7,7 @@ import numpy as np
 
 from partmesh.compare.checks import InputError
 
-__all__ = ["box_corners", "periodicity", "positions"]
+__all__ = ["box_corners", "ordered_box", "periodicity", "positions"]
 
 
 def positions(x):
@@ -25,8 +25,20 @@ def positions(x):
     return np.ascontiguousarray(x)
 
 
-def box_corners(name, value, dim):
-    """The box corner ``name`` (``lo`` or ``hi``) as ``dim`` finite floats; a single number stands for every axis."""
+def box_corners(lo, hi, dim):
+    """The box corners ``lo`` and ``hi``, each as ``dim`` finite floats; a single number stands for every axis."""
+    return _corner("lo", lo, dim), _corner("hi", hi, dim)
+
+
+def ordered_box(lo, hi, dim):
+    """:func:`box_corners`, with ``hi`` above ``lo`` on every axis."""
+    lo, hi = box_corners(lo, hi, dim)
+    if np.any(hi <= lo):
+        raise InputError(f"hi must exceed lo on every axis; got lo={lo.tolist()}, hi={hi.tolist()}.")
+    return lo, hi
+
+
+def _corner(name, value, dim):
     try:
         v = np.asarray(value, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
