@@ -5,7 +5,7 @@ Each step: the particles fly freely for Δt (specular reflection at
 reflecting sides, wrap on periodic axes, removal through open sides);
 reservoirs of equilibrium gas outside every open side — the imposed state at
 an inflow, the state of the adjacent cells at an outflow — put in the
-particles that fly in over the step; the particles are sorted into cells of
+particles that fly in over the step (:mod:`partmesh.particle.dsmc.reservoirs`); the particles are sorted into cells of
 size ``dx`` and every cell with two or more is redrawn from its local
 equilibrium, conserving its momentum and energy exactly
 (:mod:`partmesh.particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
@@ -41,17 +41,16 @@ from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.errors import InputError
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import landed
-from partmesh.cases.scene import Inflow
 from partmesh.cases.shape_factories import square
 from partmesh.particle.dsmc.axisymmetric import fill_factor, radial_flight, resampled_redraw, ring_weights
 from partmesh.particle.dsmc.cells import cell_index, sort_into_cells
 from partmesh.particle.dsmc.collide import collide
 from partmesh.particle.dsmc.equilibrate import equilibrate
-from partmesh.particle.dsmc.far_field import far_field_state
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
 from partmesh.particle.dsmc.method import DSMCSettings
 from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
-from partmesh.particle.dsmc.sample import CellSums, moment_state, probe_cells, probe_pressures, unbiased_pressure
+from partmesh.particle.dsmc.reservoirs import Reservoirs, boundary_layer
+from partmesh.particle.dsmc.sample import CellSums, probe_cells, probe_pressures, unbiased_pressure
 from partmesh.particle.dsmc.walls import (
     fluid_fraction,
     fly_past_obstacles,
@@ -64,10 +63,6 @@ from partmesh.particle.march import march_particles
 #: true collisions refuse a mean free path that makes a particle collide more often per step (the continuum limit,
 #: which the equilibrium redraw computes directly)
 MAX_COLLISIONS_PER_STEP = 100.0
-#: an open side's reservoir is deep enough for inward normal speeds up to U_n + RESERVOIR_SIGMAS √θ
-RESERVOIR_SIGMAS = 6.0
-#: steps over which an outflow's boundary state is averaged (exponentially)
-OUTFLOW_MEMORY = 20.0
 #: an obstacle on which the kernels are compiled
 _UNIT_SQUARE = square(2.0, 2.0, 1.0)
 
@@ -189,12 +184,13 @@ class _Gas:
         self.target = (np.tile(ring_weights(centres[0], self.spacing[0]), self.ncell // self.shape[0])
                        if self.radial else None)
         self.polygons = obstacle_polygons(scene.obstacles, self.dx) if dim == 2 else None
+        self.reservoirs = Reservoirs(scene, self.lo, self.hi, self.initial_fields, self.mass, zeta, seed, self.fill,
+                                     self.polygons)
         self.safeguard, self.bounces = 0, 0
         self.vhs = None  # (F_N σ_ref, g_ref, ω, Z_rot) under true collisions
         self.sigma_g_max = None  # their (F_N σg)_max per cell
         self.collisions = 0
         self._spare = None  # buffers the next cell sort writes into
-        self._outflow = {}  # side -> running moments of the cells next to an outflow
         fraction = None
         if scene.obstacles:
             fluid = ~inside_obstacles(self.x, *self.polygons)
@@ -213,13 +209,13 @@ class _Gas:
         outflow's running boundary moments, the collision maxima, the
         counters."""
         return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells, "state": self.state,
-                "outflow": self._outflow, "sigma_g_max": self.sigma_g_max,
+                "outflow": self.reservoirs.running, "sigma_g_max": self.sigma_g_max,
                 "counters": (self.safeguard, self.bounces, self.collisions)}
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
         self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved.get("w")  # (none: planar)
-        self.cells, self.state, self._outflow = saved["cells"], saved["state"], saved["outflow"]
+        self.cells, self.state, self.reservoirs.running = saved["cells"], saved["state"], saved["outflow"]
         if not hasattr(self.cells, "count"):  # (a checkpoint written before the cells counted their particles)
             self.cells.count = np.bincount(cell_index(self.x, self.lo, self.spacing, self.cells.shape_array),
                                            minlength=self.ncell)
@@ -278,7 +274,8 @@ class _Gas:
         """Advance the gas by ``dt`` from ``t`` (step number ``n``); returns
         the force on every side over the step (per metre depth in 2D, per
         square metre in 1D)."""
-        entering = [self._reservoir(side, t + dt, dt, n) for side in range(len(self.sides)) if self.sides[side] == OPEN]
+        entering = [self.reservoirs.particles(side, t + dt, dt, n, self.cells) for side in range(len(self.sides))
+                    if self.sides[side] == OPEN]
         if entering:
             self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
                                       for k, a in enumerate((self.x, self.v, self.e)))
@@ -366,67 +363,6 @@ class _Gas:
         out = self.scene.output
         return CellSums([lo for lo, _ in out.domain], out.spacing, out.shape, self.output_fraction, self.radial)
 
-    def _reservoir(self, side, t, dt, n):
-        """Equilibrium particles in a slab outside the open ``side``, deep
-        enough to hold every particle that can fly in over ``dt``, at the
-        state :meth:`_outside_state` gives. Random streams: the redraw of cell c
-        at step n draws from key c, the initial fill of cell c from step 0,
-        key ncell + c, the reservoir of side s at step n from key
-        2 ncell + s."""
-        axis, upper = side // 2, side % 2 == 1
-        rho, u, v, p = self._outside_state(side, t)
-        normal_in = -(u, v)[axis] if upper else (u, v)[axis]
-        depth = dt * (normal_in + RESERVOIR_SIGMAS * np.sqrt(p / rho))
-        if depth <= 0.0:
-            return np.zeros((0, self.scene.dim)), np.zeros((0, 3)), np.zeros(0)
-        corner, size = self.lo.copy(), self.hi - self.lo
-        corner[axis], size[axis] = (self.hi[axis] if upper else self.lo[axis] - depth), depth
-        x, vel, e = particles_in_cells(corner, size, np.ones(self.scene.dim, dtype=np.int64),
-                                       *(np.array([q], dtype=float) for q in (rho * self.fill, u, v, p * self.fill)),
-                                       self.mass, self.zeta, self.seed, n, 2 * self.ncell + side)
-        if self.scene.obstacles:  # an obstacle may run out through the side: no gas inside it
-            fluid = ~inside_obstacles(x, *self.polygons)
-            x, vel, e = x[fluid], vel[fluid], e[fluid]
-        return x, vel, e
-
-    def _outside_state(self, side, t):
-        """(rho, u, v, p) of the gas beyond an open side: an inflow's imposed
-        state; at an outflow, the characteristic far-field state between
-        the layer of cells next to the side and the scene's initial state
-        there, the undisturbed gas (:func:`~partmesh.particle.dsmc.far_field.far_field_state`). The layer's
-        state comes from its moments averaged over the last
-        ~``OUTFLOW_MEMORY`` steps: copying a
-        single step's sample out into the reservoir would feed its scatter
-        back in, and the boundary state would drift like a random walk.
-        Flow along axes the scene does not resolve is only scatter: its
-        velocity is 0 and its energy thermal."""
-        boundary = self.scene.boundaries[self.scene.sides[side]]
-        if isinstance(boundary, Inflow):
-            return tuple(float(q) for q in boundary.state(t))
-        sums = self._layer_sums(side)
-        running = self._outflow.get(side, sums)
-        running = self._outflow[side] = running + (sums - running) / OUTFLOW_MEMORY
-        layer = _boundary_layer(side, self.scene.dim)
-        far = tuple(float(np.mean(q[layer])) for q in self.initial_fields)
-        inside = self._layer_state(running) if running[0] > 0.0 else far
-        return far_field_state(inside, far, side // 2, 1.0 if side % 2 else -1.0, self.scene.gamma)
-
-    def _layer_sums(self, side) -> np.ndarray:
-        """(S0, S1 (3), S2, open volume) of the layer of cells next to ``side``."""
-        layer = _boundary_layer(side, self.scene.dim)
-        shape = self.state[0].shape
-        return np.array([self.cells.s0.reshape(shape)[layer].sum(),
-                         *(self.cells.s1[:, a].reshape(shape)[layer].sum() for a in range(3)),
-                         self.cells.s2.reshape(shape)[layer].sum(), self.cells.volume.reshape(shape)[layer].sum()])
-
-    def _layer_state(self, sums):
-        """(rho, u, v, p) from a layer's moments (:meth:`_layer_sums`); the
-        velocity along an unresolved axis is 0."""
-        rho, U, p, _ = moment_state(sums[0:1], sums[None, 1:4], sums[4:5], sums[5:6], 1, self.mass,
-                                    self.scene.gamma, self.scene.dim)
-        u, v = U[0, 0], (U[0, 1] if self.scene.dim == 2 else 0.0)
-        return float(rho[0]), float(u), float(v), float(p[0])
-
     def _side_forces(self, delivered, dt) -> np.ndarray:
         """Per side: the momentum the particles handed to a reflecting side
         over the step, over dt; elsewhere the pressure of the adjacent cells
@@ -438,7 +374,7 @@ class _Gas:
         for side in range(2 * dim):
             if self.sides[side] != REFLECT:
                 area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
-                forces[side] = float(np.nanmean(p[_boundary_layer(side, dim)])) * area
+                forces[side] = float(np.nanmean(p[boundary_layer(side, dim)])) * area
         return forces
 
 
@@ -448,14 +384,6 @@ def _buffer_of(a: np.ndarray) -> np.ndarray:
     if isinstance(b, np.ndarray) and b.ndim == a.ndim and b.ctypes.data == a.ctypes.data and b.flags.c_contiguous:
         return b
     return a
-
-
-def _boundary_layer(side, dim):
-    """Index of the cells next to ``side`` in a (ny, nx) or (nx,) array."""
-    axis, upper = side // 2, side % 2 == 1
-    if dim == 1:
-        return -1 if upper else 0
-    return (slice(None), -1 if upper else 0) if axis == 0 else (-1 if upper else 0, slice(None))
 
 
 def _side_kind(boundary) -> int:
