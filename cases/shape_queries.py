@@ -9,7 +9,8 @@ from typing import Iterable
 
 import numpy as np
 
-from partmesh.cases.shapes import REL_TOL, Circle, Polygon, Shape, as_points, cross
+from partmesh.cases.plane_geometry import as_points, cross
+from partmesh.cases.shapes import REL_TOL, Circle, Polygon, Shape
 
 
 def _as_list(shapes) -> list[Shape]:

@@ -22,7 +22,7 @@ Conventions
   end point, the solid lies on the LEFT and the fluid on the RIGHT.  The
   outward (solid -> fluid) unit normal of a segment with direction
   ``t = (tx, ty)`` is therefore the right-hand normal ``(ty, -tx) / |t|``
-  (see :func:`segment_normals`).  The shoelace area of the segments is
+  (see :func:`~partmesh.cases.plane_geometry.segment_normals`).  The shoelace area of the segments is
   positive.
 * **Polygon** vertices may be given in either orientation; they are stored
   counter-clockwise (positive shoelace area).
@@ -42,9 +42,16 @@ from functools import cached_property
 
 import numpy as np
 
+from partmesh.cases.plane_geometry import (
+    as_points,
+    check_no_crossing,
+    check_no_spike,
+    point_segment,
+    shoelace_area,
+)
 from partmesh.compare.checks import number, positive
 
-__all__ = ["CIRCLE_SEGMENTS", "REL_TOL", "Circle", "Polygon", "Shape", "as_points", "cross", "segment_normals"]
+__all__ = ["CIRCLE_SEGMENTS", "REL_TOL", "Circle", "Polygon", "Shape"]
 
 #: Number of segments used by ``Circle.segments()`` when no spacing is given.
 #: With 128 chords the polygon area is within 4.1e-4 (relative) of pi r^2.
@@ -53,50 +60,6 @@ CIRCLE_SEGMENTS = 128
 #: relative tolerance (times the length scale of the shapes involved) below
 #: which two points, or a point and an edge, are considered to coincide
 REL_TOL = 1e-9
-
-
-# --------------------------------------------------------------------------
-# input validation helpers
-# --------------------------------------------------------------------------
-def as_points(x, y) -> tuple[np.ndarray, np.ndarray]:
-    """Point coordinates ``x``, ``y`` as float arrays of one broadcast shape."""
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    return np.broadcast_arrays(x, y)
-
-
-def cross(ax, ay, bx, by):
-    """The z component of the cross product a × b of 2D vectors."""
-    return ax * by - ay * bx
-
-
-def _shoelace(v: np.ndarray) -> float:
-    x, y = v[:, 0], v[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
-def _point_segment(px, py, ax, ay, bx, by):
-    """Clamped parameter ``t`` and squared distance of points to segment a-b."""
-    ex, ey = bx - ax, by - ay
-    ll = ex * ex + ey * ey
-    t = ((px - ax) * ex + (py - ay) * ey) / ll
-    t = np.clip(t, 0.0, 1.0)
-    dx = px - (ax + t * ex)
-    dy = py - (ay + t * ey)
-    return t, dx * dx + dy * dy
-
-
-def segment_normals(segments: np.ndarray) -> np.ndarray:
-    """Outward (solid -> fluid) unit normals ``(M, 2)`` of CCW segments.
-
-    For a segment with direction ``t = p1 - p0`` the normal is the right-hand
-    normal ``(t_y, -t_x) / |t|``, because the solid lies to the left of a
-    counter-clockwise boundary.
-    """
-    s = np.asarray(segments, dtype=float)
-    t = s[:, 1, :] - s[:, 0, :]
-    length = np.hypot(t[:, 0], t[:, 1])
-    return np.stack([t[:, 1] / length, -t[:, 0] / length], axis=1)
 
 
 # --------------------------------------------------------------------------
@@ -260,34 +223,6 @@ class Circle(Shape):
 # --------------------------------------------------------------------------
 # polygon
 # --------------------------------------------------------------------------
-def _segments_touch(a, b, c, d, tol) -> np.ndarray:
-    """Closed segments a-b and c-d share a point (broadcast over leading dims;
-    last axis holds x, y).  ``tol`` is an absolute length tolerance."""
-    rx, ry = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
-    sx, sy = d[..., 0] - c[..., 0], d[..., 1] - c[..., 1]
-    lr = np.hypot(rx, ry)
-    ls = np.hypot(sx, sy)
-    # signed distances (scaled orientation tests) of each end point to the
-    # other segment's line
-    o1 = cross(rx, ry, c[..., 0] - a[..., 0], c[..., 1] - a[..., 1]) / lr
-    o2 = cross(rx, ry, d[..., 0] - a[..., 0], d[..., 1] - a[..., 1]) / lr
-    o3 = cross(sx, sy, a[..., 0] - c[..., 0], a[..., 1] - c[..., 1]) / ls
-    o4 = cross(sx, sy, b[..., 0] - c[..., 0], b[..., 1] - c[..., 1]) / ls
-    s1, s2, s3, s4 = (np.where(np.abs(o) <= tol, 0, np.sign(o)) for o in (o1, o2, o3, o4))
-    proper = (s1 * s2 < 0) & (s3 * s4 < 0)
-
-    def on_seg(p, q, r_, s):
-        # point r_ (collinear within tol with p-q) lies within the segment p-q
-        qx, qy = q[..., 0] - p[..., 0], q[..., 1] - p[..., 1]
-        ll = qx * qx + qy * qy
-        t = ((r_[..., 0] - p[..., 0]) * qx + (r_[..., 1] - p[..., 1]) * qy) / ll
-        ext = tol / np.sqrt(ll)
-        return (s == 0) & (t >= -ext) & (t <= 1 + ext)
-
-    touch = on_seg(a, b, c, s1) | on_seg(a, b, d, s2) | on_seg(c, d, a, s3) | on_seg(c, d, b, s4)
-    return proper | touch
-
-
 @dataclass(frozen=True)
 class Polygon(Shape):
     """Solid simple polygon.
@@ -331,11 +266,11 @@ class Polygon(Shape):
                 f"vertices must be distinct consecutive points, but vertices {k} and "
                 f"{(k + 1) % len(v)} coincide."
             )
-        _check_no_crossing(v, tol)
-        area = _shoelace(v)
+        check_no_crossing(v, tol)
+        area = shoelace_area(v)
         if abs(area) <= REL_TOL * scale * scale:
             raise ValueError(f"vertices must enclose a positive area, got area {abs(area):.3g}.")
-        _check_no_spike(v)
+        check_no_spike(v)
         if area < 0:
             v = np.concatenate([v[:1], v[:0:-1]])
         object.__setattr__(self, "vertices", tuple((float(a), float(b)) for a, b in v))
@@ -380,7 +315,7 @@ class Polygon(Shape):
         for k in range(n):
             ax, ay = v[k]
             bx, by = v[(k + 1) % n]
-            t, dd = _point_segment(x, y, ax, ay, bx, by)
+            t, dd = point_segment(x, y, ax, ay, bx, by)
             closer = dd < d2
             d2 = np.where(closer, dd, d2)
             best = np.where(closer, k, best)
@@ -407,7 +342,7 @@ class Polygon(Shape):
         for k in range(n):
             ax, ay = v[k]
             bx, by = v[(k + 1) % n]
-            np.minimum(d2, _point_segment(x, y, ax, ay, bx, by)[1], out=d2)
+            np.minimum(d2, point_segment(x, y, ax, ay, bx, by)[1], out=d2)
             if ay != by:
                 cond = (ay > y) != (by > y)
                 xint = ax + (y - ay) * ((bx - ax) / (by - ay))
@@ -450,7 +385,7 @@ class Polygon(Shape):
         return (float(v[:, 0].min()), float(v[:, 1].min()), float(v[:, 0].max()), float(v[:, 1].max()))
 
     def area(self) -> float:
-        return _shoelace(self._v)
+        return shoelace_area(self._v)
 
     def centroid(self) -> tuple[float, float]:
         """Area centroid ``(x, y)``."""
@@ -500,38 +435,3 @@ class Polygon(Shape):
     def translated(self, dx: float, dy: float) -> "Polygon":
         dx, dy = float(dx), float(dy)
         return Polygon(tuple((a + dx, b + dy) for a, b in self.vertices))
-
-
-def _check_no_spike(v: np.ndarray) -> None:
-    """Raise ValueError if two adjacent edges fold back onto each other."""
-    e = np.roll(v, -1, axis=0) - v
-    ep = np.roll(e, 1, axis=0)
-    le = np.hypot(e[:, 0], e[:, 1])
-    lp = np.hypot(ep[:, 0], ep[:, 1])
-    sin = cross(ep[:, 0], ep[:, 1], e[:, 0], e[:, 1]) / (le * lp)
-    cos = (ep[:, 0] * e[:, 0] + ep[:, 1] * e[:, 1]) / (le * lp)
-    spike = (np.abs(sin) <= 1e-12) & (cos < 0)
-    if np.any(spike):
-        k = int(np.argmax(spike))
-        raise ValueError(
-            f"vertices must form a simple polygon, but the edges at vertex {k} fold back onto each other."
-        )
-
-
-def _check_no_crossing(v: np.ndarray, tol: float) -> None:
-    """Raise ValueError if two non-adjacent edges of the closed polyline meet."""
-    n = len(v)
-    if n < 4:
-        return
-    a = v
-    b = np.roll(v, -1, axis=0)
-    i, j = np.triu_indices(n, k=2)
-    keep = ~((i == 0) & (j == n - 1))  # edges 0 and n-1 are adjacent
-    i, j = i[keep], j[keep]
-    hit = _segments_touch(a[i], b[i], a[j], b[j], tol)
-    if np.any(hit):
-        m = int(np.argmax(hit))
-        raise ValueError(
-            f"vertices must form a simple (non-self-intersecting) polygon, but edge {i[m]} "
-            f"meets edge {j[m]}."
-        )

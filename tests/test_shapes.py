@@ -16,6 +16,7 @@ from scipy.spatial import cKDTree
 from partmesh.cases import shape_factories as F
 from partmesh.cases import shape_queries as Q
 from partmesh.cases import shapes as S
+from partmesh.cases.plane_geometry import segment_normals
 from partmesh.cases.shapes import Circle, Polygon
 
 HYP = settings(max_examples=40, deadline=None)
@@ -290,7 +291,7 @@ def test_segments_closed_ccw(shp, spacing):
         # vertices on the circle
         np.testing.assert_allclose(shp.signed_distance(seg[:, 0, 0], seg[:, 0, 1]), 0.0, atol=1e-12)
     # the documented normal relation: right-hand normal points into the fluid
-    n = S.segment_normals(seg)
+    n = segment_normals(seg)
     mid = seg.mean(axis=1)
     if isinstance(shp, Polygon):
         eps = 1e-6 * shp.length_scale()

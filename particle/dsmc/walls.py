@@ -20,7 +20,8 @@ import numba
 import numpy as np
 
 from partmesh.cases.errors import Unsupported
-from partmesh.cases.shapes import Circle, segment_normals
+from partmesh.cases.plane_geometry import segment_normals
+from partmesh.cases.shapes import Circle
 
 #: bounces followed in one step before the safeguard takes over
 MAX_BOUNCES = 32

@@ -16,8 +16,8 @@ import sys
 from pathlib import Path
 
 from partmesh.blast_study import SNAPSHOT_TIME
-from partmesh.sweeps import finished
 from partmesh.compare.io import read
+from partmesh.sweeps import finished
 
 
 def slim(ds):

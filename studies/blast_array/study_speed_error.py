@@ -17,10 +17,10 @@ from pathlib import Path
 import pandas as pd
 
 from partmesh.blast_study import configurations
-from partmesh.sweeps import finished
 from partmesh.compare import plots
 from partmesh.compare.io import read
 from partmesh.compare.report import wall_load_table
+from partmesh.sweeps import finished
 
 HERE = Path(__file__).parent
 QUANTITIES = ("wall_impulse_final", "wall_force_peak_raw")

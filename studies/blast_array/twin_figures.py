@@ -18,9 +18,9 @@ import sys
 from pathlib import Path
 
 from partmesh.blast_study import PARTS, configurations, file_stem
-from partmesh.sweeps import finished
 from partmesh.compare import plots
 from partmesh.compare.io import read
+from partmesh.sweeps import finished
 
 #: the method whose runs each set's name stands for, when it is not a method itself
 METHOD_OF = {"twin": "fv"}
