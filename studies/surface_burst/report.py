@@ -20,6 +20,20 @@ Reads every ``surface_burst`` and ``surface_burst_1d`` result in RUNS_FOLDER
 The gauge values are measured anew from each run's probe series
 (:func:`partmesh.cases.charges.gauge_metrics`), so runs written before a
 change of that measure are read alike.
+
+    python studies/surface_burst/report.py --add RUNS_FOLDER studies/surface_burst
+
+adds the runs in RUNS_FOLDER to the record instead: their rows replace
+those of runs of the same name in ``gauges.csv`` and join the others,
+``peaks.png`` is redrawn from the whole table, and the figures that need
+a run's series and fields are drawn for each added run alone, as
+``histories_<run>.png`` and ``schlieren_<run>.png`` (``<run>`` as
+``dsmc_rz_2cm``).
+
+A run that ends before a gauge's Kingery–Bulmash positive phase would be
+over (a run stopped early, or ``--t-end`` short of the default) reads NaN
+there: the maximum of a record the blast has not reached, or not yet
+passed, is not its peak (of a dsmc record, it is its scatter's).
 """
 
 from __future__ import annotations
@@ -44,7 +58,20 @@ from partmesh.compare.metrics import schlieren  # noqa: E402
 
 def label(ds) -> str:
     """Method, geometry and cell size."""
-    return f"{ds.attrs['method']} {'1D sphere' if ds.attrs['geometry'] == 'spherical' else 'r-z'} dx={ds.attrs['dx']:g} m"
+    shape = "1D sphere" if ds.attrs["geometry"] == "spherical" else "r-z"
+    return f"{ds.attrs['method']} {shape} dx={ds.attrs['dx']:g} m"
+
+
+def file_label(ds) -> str:
+    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``."""
+    dx = ds.attrs["dx"]
+    size = f"{dx * 100:g}cm" if dx >= 0.01 else f"{dx * 1000:g}mm"
+    return f"{ds.attrs['method']}_{'1d' if ds.attrs['geometry'] == 'spherical' else 'rz'}_{size}"
+
+
+def in_order(runs: dict) -> dict:
+    """``runs`` (label → Dataset) by geometry, then coarsest first."""
+    return dict(sorted(runs.items(), key=lambda kv: (kv[1].attrs["geometry"], -kv[1].attrs["dx"])))
 
 
 def charge(ds) -> tuple[float, float]:
@@ -59,12 +86,14 @@ def table(runs: dict) -> pd.DataFrame:
     for name, ds in runs.items():
         W, p0 = charge(ds)
         values = gauge_metrics(ds, W, p0)
+        t_last = float(ds.t_probe[-1])
         for gauge, x in zip(ds.probe.values, ds.probe_x.values):
+            passed = t_last >= values[f"{gauge}_arrival_time_kb"] + values[f"{gauge}_positive_duration_kb"]
             row = {"run": name, "method": ds.attrs["method"], "geometry": ds.attrs["geometry"], "dx": ds.attrs["dx"],
                    "cells": ds.attrs["n_elements"], "wall_seconds": ds.attrs["wall_seconds"], "gauge": gauge,
                    "Z": x / W ** (1.0 / 3.0)}
             for q in GAUGE_QUANTITIES:
-                row[q] = values[f"{gauge}_{q}"]
+                row[q] = values[f"{gauge}_{q}"] if passed else float("nan")
                 kb = values[f"{gauge}_{q.replace('_fitted', '')}_kb"]
                 row[f"{q}_kb"], row[f"{q}_ratio"] = kb, row[q] / kb
             rows.append(row)
@@ -139,20 +168,33 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", type=Path)
     parser.add_argument("out", type=Path)
+    parser.add_argument("--add", action="store_true",
+                        help="add the runs to the record's gauges.csv instead of writing it anew (module docstring)")
     args = parser.parse_args(argv)
     found = {}
     for path in sorted(args.runs.glob("*.nc")):
         ds = read(path)
         if ds.attrs["case"] in ("surface_burst", "surface_burst_1d"):
             found[label(ds)] = ds
-    runs = dict(sorted(found.items(), key=lambda kv: (kv[1].attrs["geometry"], -kv[1].attrs["dx"])))
+    runs = in_order(found)
     df = table(runs)
     args.out.mkdir(parents=True, exist_ok=True)
+    W = charge(next(iter(runs.values())))[0]
+    front_time = 1e-2 * W ** (1.0 / 3.0)
+    if args.add:
+        kept = pd.read_csv(args.out / "gauges.csv")
+        kept = kept[~kept.run.isin(list(runs))]
+        df = pd.concat([kept, df], ignore_index=True)
+        order = {run: (rows.geometry.iloc[0], -rows.dx.iloc[0]) for run, rows in df.groupby("run", sort=False)}
+        df = df.sort_values("run", key=lambda run: run.map(order), kind="stable", ignore_index=True)
+        for name, ds in runs.items():
+            histories_figure({name: ds}, args.out / f"histories_{file_label(ds)}.png")
+            schlieren_figure({name: ds}, args.out / f"schlieren_{file_label(ds)}.png", front_time)
+    else:
+        histories_figure(runs, args.out / "histories.png")
+        schlieren_figure(runs, args.out / "schlieren.png", front_time)
     df.to_csv(args.out / "gauges.csv", index=False, float_format="%.6g")
     peaks_figure(df, args.out / "peaks.png")
-    histories_figure(runs, args.out / "histories.png")
-    W = charge(next(iter(runs.values())))[0]
-    schlieren_figure(runs, args.out / "schlieren.png", 1e-2 * W ** (1.0 / 3.0))
     for q in ("peak_overpressure", "peak_overpressure_fitted"):
         print(f"{q} over Kingery–Bulmash")
         print(df.pivot_table(index="gauge", columns="run", values=f"{q}_ratio", sort=False, dropna=False).round(3)
