@@ -113,17 +113,12 @@ def radial_flight(x, v, w, dt, R, outer):
 
 
 @numba.njit(parallel=True, cache=True)
-def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum, energy):
-    """The equilibrium redraw of weighted particles in cell order (cell c
-    holds ``start[c]:start[c+1]``) that also resamples every cell with ≥ 2
-    particles to ``M = max(2, round(Σw/target[c]))`` particles of weight
-    ``Σw/M`` (module docstring). Returns ``(x, v, e, w, start)`` of the new
-    particles, still in cell order; fills per cell the sums it conserves,
-    ``mass`` (Σw), ``momentum`` (Σ w v, (ncell, 3)) and ``energy``
-    (Σ w(½|v|² + e), e counted if ``zeta`` > 0). Cell c draws from the
-    stream ``(seed, step, c)``."""
+def resampled_starts(w, start, target):
+    """The cell starts of the particles :func:`resampled_redraw` makes of
+    those in cell order (cell c holds ``start[c]:start[c+1]``, weights
+    ``w``): every cell with ≥ 2 particles holds
+    ``M = max(2, round(Σw/target[c]))``, the others as many as before."""
     ncell = start.size - 1
-    dim = x.shape[1]
     counts = np.empty(ncell + 1, dtype=np.int64)
     counts[0] = 0
     for c in numba.prange(ncell):
@@ -135,9 +130,39 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
         for i in range(a, b):
             total += w[i]
         counts[c + 1] = max(2, int(round(total / target[c])))
-    first = np.cumsum(counts)
-    m = first[ncell]
-    xs, vs, es, ws = np.empty((m, dim)), np.empty((m, 3)), np.zeros(m), np.empty(m)
+    return np.cumsum(counts)
+
+
+def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum, energy, out=None):
+    """The equilibrium redraw of weighted particles in cell order (cell c
+    holds ``start[c]:start[c+1]``) that also resamples every cell with ≥ 2
+    particles to ``M = max(2, round(Σw/target[c]))`` particles of weight
+    ``Σw/M`` (module docstring). Returns ``(x, v, e, w, start)`` of the new
+    particles, still in cell order; fills per cell the sums it conserves,
+    ``mass`` (Σw), ``momentum`` (Σ w v, (ncell, 3)) and ``energy``
+    (Σ w(½|v|² + e), e counted if ``zeta`` > 0). Cell c draws from the
+    stream ``(seed, step, c)``.
+
+    ``out``: buffers ``(x, v, e, w)`` to write the new particles into, the
+    returned arrays being their leading parts; replaced by new ones with a
+    quarter more room where they are too short (room that an inflow's
+    particles then fill without copying the rest)."""
+    first = resampled_starts(w, start, target)
+    m = int(first[-1])
+    if out is None or min(a.shape[0] for a in out) < m:
+        capacity = m + m // 4 + 16
+        out = (np.empty((capacity, x.shape[1])), np.empty((capacity, 3)), np.empty(capacity), np.empty(capacity))
+    xs, vs, es, ws = (a[:m] for a in out)
+    _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws)
+    return xs, vs, es, ws, first
+
+
+@numba.njit(parallel=True, cache=True)
+def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws):
+    """:func:`resampled_redraw` into ``xs, vs, es, ws``, cell c's new
+    particles at ``first[c]:first[c+1]``."""
+    ncell = start.size - 1
+    dim = x.shape[1]
     for c in numba.prange(ncell):
         a, b, k0, k1 = start[c], start[c + 1], first[c], first[c + 1]
         S0 = p0 = p1 = p2 = total = 0.0
@@ -162,6 +187,8 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
             continue
         M = k1 - k0
         W = S0 / M
+        for k in range(k0, k1):
+            es[k] = 0.0  # (no internal energy unless zeta > 0: a reused buffer holds old values)
         U0, U1, U2 = p0 / S0, p1 / S0, p2 / S0
         thermal = total - 0.5 * S0 * (U0 * U0 + U1 * U1 + U2 * U2)
         state = stream(seed, step, c)
@@ -181,4 +208,3 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
         # the equilibrium draw about the cell's velocity, as in equilibrate, at M particles of weight W
         state, m0, m1, m2, drawn = drawn_deviations(state, vs, es, k0, k1, zeta)
         set_about(vs, es, k0, k1, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / (W * drawn), zeta)
-    return xs, vs, es, ws, first

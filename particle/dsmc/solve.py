@@ -277,10 +277,10 @@ class _Gas:
         entering = [self.reservoirs.particles(side, t + dt, dt, n, self.cells) for side in range(len(self.sides))
                     if self.sides[side] == OPEN]
         if entering:
-            self.x, self.v, self.e = (np.concatenate([a, *(part[k] for part in entering)])
+            self.x, self.v, self.e = (appended(a, [part[k] for part in entering])
                                       for k, a in enumerate((self.x, self.v, self.e)))
             if self.radial:
-                self.w = np.concatenate([self.w, *(ring_weights(part[0][:, 0], self.spacing[0]) for part in entering)])
+                self.w = appended(self.w, [ring_weights(part[0][:, 0], self.spacing[0]) for part in entering])
         if self.radial:
             gone, delivered = self._radial_flight(dt)
         elif self.scene.obstacles:
@@ -319,9 +319,11 @@ class _Gas:
         and redrawn (:func:`resampled_redraw`) into the step's cell sums;
         returns the cell starts of the sort."""
         start = self._sort(keep)
+        sorted_buffers = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, self.w))
         self.x, self.v, self.e, self.w, _ = resampled_redraw(self.x, self.v, self.e, self.w, start, self.target,
                                                              self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
-                                                             self.cells.s2)
+                                                             self.cells.s2, out=self._spare)
+        self._spare = sorted_buffers
         return start
 
     def _sort(self, keep) -> np.ndarray:
@@ -329,7 +331,7 @@ class _Gas:
         in cell order (into the spare buffers, which then hold the old
         order) and drop the rest; returns the cell starts."""
         n = self.x.shape[0]
-        if self._spare is None or self._spare[2].shape[0] < n:
+        if self._spare is None or min(b.shape[0] for b in self._spare[:3]) < n:
             capacity = n + n // 4 + 16  # room for the particles an inflow adds
             self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity),
                            np.empty(capacity) if self.radial else UNWEIGHTED)
@@ -376,6 +378,22 @@ class _Gas:
                 area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
                 forces[side] = float(np.nanmean(p[boundary_layer(side, dim)])) * area
         return forces
+
+
+def appended(a: np.ndarray, parts: list) -> np.ndarray:
+    """``a`` followed by the arrays ``parts``: written into the room behind
+    ``a`` in its buffer (:func:`_buffer_of`) where there is enough, so that
+    the particles an inflow adds do not copy all the others; else into a
+    new buffer with a quarter more room."""
+    n, k = a.shape[0], sum(part.shape[0] for part in parts)
+    buffer = _buffer_of(a)
+    if buffer.shape[0] < n + k:
+        buffer = np.empty((n + k + (n + k) // 4 + 16, *a.shape[1:]))
+        buffer[:n] = a
+    for part in parts:
+        buffer[n:n + part.shape[0]] = part
+        n += part.shape[0]
+    return buffer[:n]
 
 
 def _buffer_of(a: np.ndarray) -> np.ndarray:
