@@ -11,5 +11,8 @@ the obstacles' convex polygons), :mod:`~partmesh.particle.dsmc.gas` (equilibrium
 particles), :mod:`~partmesh.particle.dsmc.sample` (cell moments),
 :mod:`~partmesh.particle.dsmc.cells` (the cell sort), :mod:`~partmesh.particle.dsmc.method`
 (the settings and registry entry of method ``dsmc``),
+:mod:`~partmesh.particle.dsmc.reservoirs` (the gas beyond open sides),
+:mod:`~partmesh.particle.dsmc.far_field` (an outflow's far-field state),
+:mod:`~partmesh.particle.dsmc.axisymmetric` (r–z flight and the resampling redraw),
 :mod:`~partmesh.particle.dsmc.solve` (the run).
 """

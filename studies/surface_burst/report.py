@@ -24,16 +24,19 @@ change of that measure are read alike.
     python studies/surface_burst/report.py --add RUNS_FOLDER studies/surface_burst
 
 adds the runs in RUNS_FOLDER to the record instead: their rows replace
-those of runs of the same name in ``gauges.csv`` and join the others,
-``peaks.png`` is redrawn from the whole table, and the figures that need
-a run's series and fields are drawn for each added run alone, as
-``histories_<run>.png`` and ``schlieren_<run>.png`` (``<run>`` as
-``dsmc_rz_2cm``).
+those of runs of the same name in ``gauges.csv`` (in their place) and
+join the others in order, ``peaks.png`` is redrawn from the whole table,
+and the figures that need a run's series and fields are drawn for each
+added run alone, as ``histories_<file label>.png`` and, of an r–z run,
+``schlieren_<file label>.png`` (:func:`file_label`: ``dsmc_rz_2cm``);
+``histories.png`` and ``schlieren.png`` keep the runs they were drawn of.
 
-A run that ends before a gauge's Kingery–Bulmash positive phase would be
-over (a run stopped early, or ``--t-end`` short of the default) reads NaN
-there: the maximum of a record the blast has not reached, or not yet
-passed, is not its peak (of a dsmc record, it is its scatter's).
+A run that ends early (stopped, or ``--t-end`` short of the default) reads
+NaN at a gauge whose blast it has not seen: the peaks (raw and fitted) and
+the arrival where it ends before the Kingery–Bulmash arrival plus a
+quarter of the positive phase (the maximum of a record the blast has not
+reached is not its peak; of a dsmc record, it is its scatter's), the
+duration and impulse where it ends before that phase is over.
 """
 
 from __future__ import annotations
@@ -63,15 +66,16 @@ def label(ds) -> str:
 
 
 def file_label(ds) -> str:
-    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``."""
-    dx = ds.attrs["dx"]
-    size = f"{dx * 100:g}cm" if dx >= 0.01 else f"{dx * 1000:g}mm"
+    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``, ``fv_1d_2p5mm``."""
+    mm = round(ds.attrs["dx"] * 1e3, 6)
+    size = (f"{mm / 10:g}cm" if mm >= 10 else f"{mm:g}mm").replace(".", "p")
     return f"{ds.attrs['method']}_{'1d' if ds.attrs['geometry'] == 'spherical' else 'rz'}_{size}"
 
 
-def in_order(runs: dict) -> dict:
-    """``runs`` (label → Dataset) by geometry, then coarsest first."""
-    return dict(sorted(runs.items(), key=lambda kv: (kv[1].attrs["geometry"], -kv[1].attrs["dx"])))
+def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
+    """A run's place in the record: by geometry, coarsest first, then by
+    ``before`` (its row in the record it already has a place in)."""
+    return geometry, -dx, before
 
 
 def charge(ds) -> tuple[float, float]:
@@ -88,12 +92,14 @@ def table(runs: dict) -> pd.DataFrame:
         values = gauge_metrics(ds, W, p0)
         t_last = float(ds.t_probe[-1])
         for gauge, x in zip(ds.probe.values, ds.probe_x.values):
-            passed = t_last >= values[f"{gauge}_arrival_time_kb"] + values[f"{gauge}_positive_duration_kb"]
+            arrival, duration = values[f"{gauge}_arrival_time_kb"], values[f"{gauge}_positive_duration_kb"]
+            seen = {q: t_last >= arrival + (duration if q.startswith("positive") else 0.25 * duration)
+                    for q in GAUGE_QUANTITIES}
             row = {"run": name, "method": ds.attrs["method"], "geometry": ds.attrs["geometry"], "dx": ds.attrs["dx"],
                    "cells": ds.attrs["n_elements"], "wall_seconds": ds.attrs["wall_seconds"], "gauge": gauge,
                    "Z": x / W ** (1.0 / 3.0)}
             for q in GAUGE_QUANTITIES:
-                row[q] = values[f"{gauge}_{q}"] if passed else float("nan")
+                row[q] = values[f"{gauge}_{q}"] if seen[q] else float("nan")
                 kb = values[f"{gauge}_{q.replace('_fitted', '')}_kb"]
                 row[f"{q}_kb"], row[f"{q}_ratio"] = kb, row[q] / kb
             rows.append(row)
@@ -175,18 +181,26 @@ def main(argv=None) -> None:
     for path in sorted(args.runs.glob("*.nc")):
         ds = read(path)
         if ds.attrs["case"] in ("surface_burst", "surface_burst_1d"):
+            if label(ds) in found:
+                parser.error(f"two runs in {args.runs} are both '{label(ds)}' ({path.name} and another): keep one")
             found[label(ds)] = ds
-    runs = in_order(found)
+    if not found:
+        parser.error(f"no surface_burst or surface_burst_1d result in {args.runs}")
+    runs = dict(sorted(found.items(), key=lambda kv: place(kv[1].attrs["geometry"], kv[1].attrs["dx"])))
     df = table(runs)
     args.out.mkdir(parents=True, exist_ok=True)
     W = charge(next(iter(runs.values())))[0]
     front_time = 1e-2 * W ** (1.0 / 3.0)
     if args.add:
-        kept = pd.read_csv(args.out / "gauges.csv")
-        kept = kept[~kept.run.isin(list(runs))]
-        df = pd.concat([kept, df], ignore_index=True)
-        order = {run: (rows.geometry.iloc[0], -rows.dx.iloc[0]) for run, rows in df.groupby("run", sort=False)}
-        df = df.sort_values("run", key=lambda run: run.map(order), kind="stable", ignore_index=True)
+        record = args.out / "gauges.csv"
+        if not record.is_file():
+            parser.error(f"--add needs the record's {record}; without --add the record is written anew")
+        kept = pd.read_csv(record)
+        first_row = {run: i for i, run in reversed(list(enumerate(kept.run)))}
+        df = pd.concat([kept[~kept.run.isin(list(runs))], df], ignore_index=True)
+        key = {run: place(rows.geometry.iloc[0], rows.dx.iloc[0], first_row.get(run, len(kept)))
+               for run, rows in df.groupby("run", sort=False)}
+        df = df.sort_values("run", key=lambda run: run.map(key), kind="stable", ignore_index=True)
         for name, ds in runs.items():
             histories_figure({name: ds}, args.out / f"histories_{file_label(ds)}.png")
             schlieren_figure({name: ds}, args.out / f"schlieren_{file_label(ds)}.png", front_time)
