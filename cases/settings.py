@@ -46,9 +46,9 @@ def one_of(options) -> Callable:
     return lambda name, value: choice(name, value, tuple(options))
 
 
-def at_least(lo: int) -> Callable:
-    """The check of an integer ≥ ``lo``."""
-    return lambda name, value: integer(name, value, lo)
+def at_least(lo: int, hi: int | None = None) -> Callable:
+    """The check of an integer ≥ ``lo`` (and ≤ ``hi``)."""
+    return lambda name, value: integer(name, value, lo, hi)
 
 
 def optional_path(name: str, value):

@@ -114,6 +114,21 @@ def test_cfl_outside_0_1(sod, cfl):
     assert "cfl" in message and "(0, 1]" in message
 
 
+@pytest.mark.parametrize("seed", [-1, 2**63, "12.5"])
+def test_a_dsmc_seed_outside_64_bit_integers_is_refused_in_one_sentence(sod, seed):
+    # the kernels take the seed as a signed 64-bit integer: 2**63 reached numba as an OverflowError
+    with pytest.raises(InputError) as info:
+        partmesh.run(sod, "dsmc", seed=seed, ppc=5, progress=False)
+    message = one_sentence(info.value)
+    assert "seed" in message and (str(2**63 - 1) in message or "integer" in message)
+
+
+def test_an_ensemble_whose_last_seed_is_past_64_bit_integers_is_refused_before_it_starts(sod):
+    with pytest.raises(InputError) as info:
+        partmesh.run(sod, "dsmc", seed=2**63 - 2, ensembles=3, ppc=5, progress=False)
+    assert "seed" in one_sentence(info.value)
+
+
 @pytest.mark.parametrize("key, value", [("limiter", "nonsense"), ("riemann", "roe-ish")])
 def test_unknown_limiter_or_riemann_solver(sod, key, value):
     with pytest.raises(InputError) as info:

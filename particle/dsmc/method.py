@@ -21,6 +21,9 @@ COLLISION_MODEL = ("mean_free_path", "omega", "z_rot")
 PARTICLE_BYTES = 120.0
 
 
+#: the largest seed: the kernels take it as a 64-bit signed integer
+MAX_SEED = 2**63 - 1
+
 @dataclass(frozen=True)
 class DSMCSettings(Settings):
     """Settings of equilibrium DSMC on cells of size ``dx``: ``ppc``
@@ -42,7 +45,7 @@ class DSMCSettings(Settings):
     ppc: int = setting(30, at_least(1), "particles per cell, at least 1")
     cfl: float = setting(1.0, within(0.0, 1.0, lo_open=True),
                          "Courant number in (0, 1]")
-    seed: int = setting(0, at_least(0), "random seed, at least 0")
+    seed: int = setting(0, at_least(0, MAX_SEED), f"random seed, 0 to {MAX_SEED}")
     window: int = setting(1, at_least(1), "steps averaged into a frame, at least 1")
     collisions: str = setting("equilibrium", one_of(COLLISIONS), "collision model")
     mean_free_path: float | None = setting(None, positive, "mean free path at the lowest initial density [m]")
