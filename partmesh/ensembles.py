@@ -34,8 +34,8 @@ def run_ensemble(scene, method: str, ensembles: int, seed: int = 0, scheduler: s
     if not registry.method(method).takes_seed:
         raise InputError(f"method {method} is deterministic: ensembles need a method with a seed (dsmc).")
     ensembles, seed = integer("ensembles", ensembles, 1), integer("seed", seed, 0)
-    for first_or_last in (seed, seed + ensembles - 1):  # (bad settings refused here, not on the workers)
-        registry.method(method).checked(scene, {**settings, "seed": first_or_last})
+    # bad settings refused here, not on the workers; the last seed is the largest
+    registry.method(method).checked(scene, {**settings, "seed": seed + ensembles - 1})
     seeds = [seed + k for k in range(ensembles)]
     n_workers = local_workers(ensembles, workers)
     threads = None if scheduler else threads_per_run(n_workers)

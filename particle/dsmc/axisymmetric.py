@@ -38,6 +38,7 @@ import math
 import numba
 import numpy as np
 
+from partmesh.particle.dsmc.cells import particle_buffers
 from partmesh.particle.dsmc.equilibrate import drawn_deviations, set_about
 from partmesh.particle.dsmc.move import REFLECT
 from partmesh.particle.dsmc.random import stream, uniform
@@ -144,14 +145,14 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
     stream ``(seed, step, c)``.
 
     ``out``: buffers ``(x, v, e, w)`` to write the new particles into, the
-    returned arrays being their leading parts; replaced by new ones with a
-    quarter more room where they are too short (room that an inflow's
-    particles then fill without copying the rest)."""
+    returned arrays being their leading parts; replaced by new ones with
+    room (:func:`~partmesh.particle.dsmc.cells.particle_buffers`) where they
+    are too short, which an inflow's particles then fill without copying
+    the rest."""
     first = resampled_starts(w, start, target)
     m = int(first[-1])
     if out is None or min(a.shape[0] for a in out) < m:
-        capacity = m + m // 4 + 16
-        out = (np.empty((capacity, x.shape[1])), np.empty((capacity, 3)), np.empty(capacity), np.empty(capacity))
+        out = particle_buffers(m, x.shape[1], weighted=True)
     xs, vs, es, ws = (a[:m] for a in out)
     _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws)
     return xs, vs, es, ws, first
@@ -187,8 +188,9 @@ def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, e
             continue
         M = k1 - k0
         W = S0 / M
-        for k in range(k0, k1):
-            es[k] = 0.0  # (no internal energy unless zeta > 0: a reused buffer holds old values)
+        if zeta <= 0.0:  # (the draw sets no internal energy then, and a reused buffer holds old values)
+            for k in range(k0, k1):
+                es[k] = 0.0
         U0, U1, U2 = p0 / S0, p1 / S0, p2 / S0
         thermal = total - 0.5 * S0 * (U0 * U0 + U1 * U1 + U2 * U2)
         state = stream(seed, step, c)

@@ -15,6 +15,23 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+#: the weights of unweighted (planar) particles for :func:`sort_into_cells`
+UNWEIGHTED = np.empty(0)
+
+
+def with_room(n: int) -> int:
+    """Buffer length for ``n`` particles and a quarter more: room for the
+    particles an inflow adds before the next sort."""
+    return n + n // 4 + 16
+
+
+def particle_buffers(n: int, dim: int, weighted: bool) -> tuple:
+    """Empty ``(x, v, e, w)`` buffers of :func:`with_room` ``(n)`` particles
+    in ``dim`` dimensions; ``w`` is :data:`UNWEIGHTED` unless ``weighted``."""
+    capacity = with_room(n)
+    return (np.empty((capacity, dim)), np.empty((capacity, 3)), np.empty(capacity),
+            np.empty(capacity) if weighted else UNWEIGHTED)
+
 
 @numba.njit(cache=True, inline="always")
 def _cell(x, i, lo, spacing, shape):

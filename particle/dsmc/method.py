@@ -24,6 +24,7 @@ PARTICLE_BYTES = 120.0
 #: the largest seed: the kernels take it as a 64-bit signed integer
 MAX_SEED = 2**63 - 1
 
+
 @dataclass(frozen=True)
 class DSMCSettings(Settings):
     """Settings of equilibrium DSMC on cells of size ``dx``: ``ppc``

@@ -5,8 +5,9 @@ Each step: the particles fly freely for Δt (specular reflection at
 reflecting sides, wrap on periodic axes, removal through open sides);
 reservoirs of equilibrium gas outside every open side — the imposed state at
 an inflow, the state of the adjacent cells at an outflow — put in the
-particles that fly in over the step (:mod:`partmesh.particle.dsmc.reservoirs`); the particles are sorted into cells of
-size ``dx`` and every cell with two or more is redrawn from its local
+particles that fly in over the step (:mod:`partmesh.particle.dsmc.reservoirs`);
+the particles are sorted into cells of size ``dx`` and every cell with two
+or more is redrawn from its local
 equilibrium, conserving its momentum and energy exactly
 (:mod:`partmesh.particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
 cells, C = ``cfl``.
@@ -43,7 +44,7 @@ from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import landed
 from partmesh.cases.shape_factories import square
 from partmesh.particle.dsmc.axisymmetric import fill_factor, radial_flight, resampled_redraw, ring_weights
-from partmesh.particle.dsmc.cells import cell_index, sort_into_cells
+from partmesh.particle.dsmc.cells import UNWEIGHTED, cell_index, particle_buffers, sort_into_cells, with_room
 from partmesh.particle.dsmc.collide import collide
 from partmesh.particle.dsmc.equilibrate import equilibrate
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
@@ -118,10 +119,6 @@ def landing_step(dt_max: float, left: float) -> float:
     if left <= dt_max:
         return left
     return 0.5 * left if left < 2.0 * dt_max else dt_max
-
-
-#: the weights of unweighted (planar) particles for :func:`sort_into_cells`
-UNWEIGHTED = np.empty(0)
 
 
 def _compile_kernels(dim, zeta, collisions, radial=False):
@@ -332,9 +329,7 @@ class _Gas:
         order) and drop the rest; returns the cell starts."""
         n = self.x.shape[0]
         if self._spare is None or min(b.shape[0] for b in self._spare[:3]) < n:
-            capacity = n + n // 4 + 16  # room for the particles an inflow adds
-            self._spare = (np.empty((capacity, self.scene.dim)), np.empty((capacity, 3)), np.empty(capacity),
-                           np.empty(capacity) if self.radial else UNWEIGHTED)
+            self._spare = particle_buffers(n, self.scene.dim, self.radial)
         weights = self.w if self.radial else UNWEIGHTED
         old = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, weights))
         start = sort_into_cells(*(a[:n] for a in old), keep, self.lo, self.spacing, self.cells.shape_array,
@@ -384,11 +379,11 @@ def appended(a: np.ndarray, parts: list) -> np.ndarray:
     """``a`` followed by the arrays ``parts``: written into the room behind
     ``a`` in its buffer (:func:`_buffer_of`) where there is enough, so that
     the particles an inflow adds do not copy all the others; else into a
-    new buffer with a quarter more room."""
+    new buffer with room (:func:`~partmesh.particle.dsmc.cells.with_room`)."""
     n, k = a.shape[0], sum(part.shape[0] for part in parts)
     buffer = _buffer_of(a)
     if buffer.shape[0] < n + k:
-        buffer = np.empty((n + k + (n + k) // 4 + 16, *a.shape[1:]))
+        buffer = np.empty((with_room(n + k), *a.shape[1:]))
         buffer[:n] = a
     for part in parts:
         buffer[n:n + part.shape[0]] = part
