@@ -38,10 +38,11 @@ def test_periodic_wrap_and_open_sides_in_2d():
     np.testing.assert_array_equal(delivered, np.zeros(4))  # no wall was hit
 
 
-def test_closed_box_keeps_every_particle_and_the_energy_to_round_off():
+@pytest.mark.parametrize("profile", ["uniform", "linear"])
+def test_closed_box_keeps_every_particle_and_the_energy_to_round_off(profile):
     # Sedov in its reflecting box: specular walls and the redraw conserve energy exactly
     scene = partmesh.scene("sedov", n_out=32, t_end=0.08)
-    ds = partmesh.run(scene, "dsmc", dx=2.0 / 32, ppc=20, progress=False)
+    ds = partmesh.run(scene, "dsmc", dx=2.0 / 32, ppc=20, profile=profile, progress=False)
     volume = 4.0 / 32**2
     mass = (ds["rho"] * volume).sum(dim=("x", "y"))
     assert float(np.abs(mass / mass[0] - 1).max()) < 1e-14

@@ -115,9 +115,10 @@ def test_the_resampling_copies_each_particle_in_proportion_to_its_weight_whateve
     np.testing.assert_allclose(copies / 4000, w / (w.sum() / M), atol=0.03)  # 4 standard errors
 
 
-@pytest.fixture(scope="module")
-def rest():
-    """A closed cylinder of gas at rest, 16 ring cells across, to t = 3; a point and a shell probe at 0.6."""
+@pytest.fixture(scope="module", params=["uniform", "linear"])
+def rest(request):
+    """A closed cylinder of gas at rest, 16 ring cells across, to t = 3, redrawn about each profile; a point
+    and a shell probe at 0.6."""
     n, t_end = 16, 3.0
     base = sedov_spherical(n_out=n)
     times = tuple(np.linspace(t_end / 30, t_end, 30))
@@ -125,7 +126,7 @@ def rest():
                                 exact_solution=None, t_end=t_end,
                                 probes=(Probe("point", 0.6, 0.0), Probe("shell", 0.6, 0.0, shell=True)),
                                 output=OutputGrid(domain=base.domain, shape=(n, n), times=times, dt_probe=t_end / 50))
-    return partmesh.run(scene, "dsmc", dx=1.0 / n, progress=False, seed=2)
+    return partmesh.run(scene, "dsmc", dx=1.0 / n, progress=False, seed=2, profile=request.param)
 
 
 def test_a_closed_cylinder_at_rest_keeps_its_mass_and_energy_and_does_not_drift_outward(rest):

@@ -13,6 +13,7 @@ from scipy import stats
 from partmesh.particle.dsmc import random
 from partmesh.particle.dsmc.cells import sort_into_cells
 from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc.profile import NO_SLOPES
 from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 
 
@@ -29,11 +30,13 @@ def _cells(sizes, rng, bulk=1.0, zeta=2.0):
     return v, e, cell, start
 
 
-def _redraw(v, e, start, zeta, seed, step):
-    """Redraw in place; returns the per-cell sums the redraw reports."""
+def _redraw(v, e, start, zeta, seed, step, x=None, slopes=NO_SLOPES):
+    """Redraw in place (about the linear profile of ``slopes`` at ``x``, if
+    given); returns the per-cell sums the redraw reports."""
     ncell = start.size - 1
     count, momentum, energy = np.zeros(ncell), np.zeros((ncell, 3)), np.zeros(ncell)
-    equilibrate(v, e, start, zeta, seed, step, count, momentum, energy)
+    x = np.zeros((v.shape[0], 1)) if x is None else x
+    equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes)
     return count, momentum, energy
 
 

@@ -41,6 +41,7 @@ import numpy as np
 from partmesh.particle.dsmc.cells import particle_buffers
 from partmesh.particle.dsmc.equilibrate import drawn_deviations, set_about
 from partmesh.particle.dsmc.move import REFLECT
+from partmesh.particle.dsmc.profile import NO_SLOPES, redrawn_about_profile
 from partmesh.particle.dsmc.random import stream, uniform
 
 #: bounces off the outer cylinder followed within one step (a molecule grazing it)
@@ -134,7 +135,8 @@ def resampled_starts(w, start, target):
     return np.cumsum(counts)
 
 
-def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum, energy, out=None):
+def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum, energy, out=None,
+                     slopes=NO_SLOPES):
     """The equilibrium redraw of weighted particles in cell order (cell c
     holds ``start[c]:start[c+1]``) that also resamples every cell with ≥ 2
     particles to ``M = max(2, round(Σw/target[c]))`` particles of weight
@@ -148,18 +150,21 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
     returned arrays being their leading parts; replaced by new ones with
     room (:func:`~partmesh.particle.dsmc.cells.particle_buffers`) where they
     are too short, which an inflow's particles then fill without copying
-    the rest."""
+    the rest.
+
+    ``slopes`` (ncell, 2, 3): the draw is about the cell's linear velocity
+    profile (:mod:`partmesh.particle.dsmc.profile`) at the new positions."""
     first = resampled_starts(w, start, target)
     m = int(first[-1])
     if out is None or min(a.shape[0] for a in out) < m:
         out = particle_buffers(m, x.shape[1], weighted=True)
     xs, vs, es, ws = (a[:m] for a in out)
-    _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws)
+    _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes)
     return xs, vs, es, ws, first
 
 
 @numba.njit(parallel=True, cache=True)
-def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws):
+def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes):
     """:func:`resampled_redraw` into ``xs, vs, es, ws``, cell c's new
     particles at ``first[c]:first[c+1]``."""
     ncell = start.size - 1
@@ -209,4 +214,7 @@ def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, e
             ws[k] = W
         # the equilibrium draw about the cell's velocity, as in equilibrate, at M particles of weight W
         state, m0, m1, m2, drawn = drawn_deviations(state, vs, es, k0, k1, zeta)
-        set_about(vs, es, k0, k1, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / (W * drawn), zeta)
+        if slopes.shape[0] > 0:
+            redrawn_about_profile(xs, vs, es, k0, k1, U0, U1, U2, thermal, W, zeta, slopes, c)
+        else:
+            set_about(vs, es, k0, k1, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / (W * drawn), zeta)

@@ -29,13 +29,17 @@ import numba
 import numpy as np
 
 from partmesh.particle.dsmc.cells import record_cell_sums
+from partmesh.particle.dsmc.profile import redrawn_about_profile
 from partmesh.particle.dsmc.random import gamma, normal, stream
 
 
 @numba.njit(parallel=True, cache=True)
-def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
+def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
-    energies ``e`` (n,) of the particles of every cell with ≥ 2 of them.
+    energies ``e`` (n,) of the particles of every cell with ≥ 2 of them,
+    about the cell's mean velocity, or about its linear profile with the
+    cell's ``slopes`` (ncell, dim, 3) at the positions ``x``
+    (:mod:`partmesh.particle.dsmc.profile`; ``slopes`` of no rows: uniform).
 
     The particles are in cell order (:func:`partmesh.particle.dsmc.cells.sort_into_cells`):
     cell c holds ``start[c]:start[c+1]``. ``zeta`` ≥ 0 internal degrees of
@@ -54,7 +58,10 @@ def equilibrate(v, e, start, zeta, seed, step, count, momentum, energy):
         thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
         # the draw c (3 normals per particle) and ε, written in place of v and e
         state, m0, m1, m2, drawn = drawn_deviations(stream(seed, step, cell), v, e, a, b, zeta)
-        set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / drawn, zeta)
+        if slopes.shape[0] > 0:
+            redrawn_about_profile(x, v, e, a, b, U0, U1, U2, thermal, 1.0, zeta, slopes, cell)
+        else:
+            set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / drawn, zeta)
 
 
 @numba.njit(cache=True, inline="always")

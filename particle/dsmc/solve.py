@@ -7,10 +7,12 @@ reservoirs of equilibrium gas outside every open side — the imposed state at
 an inflow, the state of the adjacent cells at an outflow — put in the
 particles that fly in over the step (:mod:`partmesh.particle.dsmc.reservoirs`);
 the particles are sorted into cells of size ``dx`` and every cell with two
-or more is redrawn from its local
-equilibrium, conserving its momentum and energy exactly
-(:mod:`partmesh.particle.dsmc.equilibrate`). Δt = C Δx / (max|U| + 3 √θ_max) over the
-cells, C = ``cfl``.
+or more is redrawn from its local equilibrium, conserving its momentum and
+energy exactly (:mod:`partmesh.particle.dsmc.equilibrate`), about the
+cell's mean velocity and temperature or, with ``profile="linear"``, about
+their limited linear profiles across the cell
+(:mod:`partmesh.particle.dsmc.profile`). Δt = C Δx / (max|U| + 3 √θ_max)
+over the cells, C = ``cfl``.
 
 With ``collisions="larsen-borgnakke"`` the redraw gives way to true binary
 collisions (:mod:`partmesh.particle.dsmc.collide`: no-time-counter selection, VHS
@@ -50,6 +52,7 @@ from partmesh.particle.dsmc.equilibrate import equilibrate
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
 from partmesh.particle.dsmc.method import DSMCSettings
 from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
+from partmesh.particle.dsmc.profile import NO_SLOPES, cell_means, limited_slopes
 from partmesh.particle.dsmc.reservoirs import Reservoirs, boundary_layer
 from partmesh.particle.dsmc.sample import CellSums, probe_cells, probe_pressures, unbiased_pressure
 from partmesh.particle.dsmc.walls import (
@@ -79,7 +82,7 @@ def solve(scene, settings: DSMCSettings):
     t0 = _time.perf_counter()
     _compile_kernels(scene.dim, zeta, settings.collisions, scene.geometry == "axisymmetric")
     compile_seconds = _time.perf_counter() - t0
-    gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed)
+    gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed, settings.profile)
     if settings.collisions == "larsen-borgnakke":
         gas.collide_with(settings.mean_free_path, settings.omega, settings.z_rot, settings.cfl)
     run = _Run(scene, gas, settings.record(), compile_seconds)
@@ -129,12 +132,17 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
     start = sort_into_cells(x, v, e, UNWEIGHTED, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(),
                             e.copy(), UNWEIGHTED)
-    equilibrate(v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
+    for slopes in (NO_SLOPES, np.zeros((1, dim, 4))):
+        equilibrate(x, v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    cell_means(v, e, UNWEIGHTED, start, zeta)
     if radial:
         w, sides = np.ones(2), np.full(2, REFLECT, dtype=np.int64)
         radial_flight(x, v, w, 0.0, 1.0, REFLECT)
         free_flight(x[:, 1:], v[:, 1:], 0.0, lo[1:], spacing[1:], sides, w)
-        resampled_redraw(x, v, e, w, start, np.ones(1), zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
+        for slopes in (NO_SLOPES, np.zeros((1, dim, 4))):
+            resampled_redraw(x, v, e, w, start, np.ones(1), zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1),
+                             slopes=slopes)
+        cell_means(v, e, w, start, zeta)
     if collisions == "larsen-borgnakke":
         collide(v, e, start, np.ones(1), 1.0, 1.0, 1.0, 0.74, 5.0, zeta, 0, 0, np.ones(1), np.zeros(1),
                 np.zeros((1, 3)), np.zeros(1))
@@ -150,8 +158,8 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
 class _Gas:
     """The particles of one run and the step that advances them."""
 
-    def __init__(self, scene, dx, ppc, zeta, seed):
-        self.scene, self.zeta, self.seed = scene, zeta, seed
+    def __init__(self, scene, dx, ppc, zeta, seed, profile="uniform"):
+        self.scene, self.zeta, self.seed, self.profile = scene, zeta, seed, profile
         dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
         self.hi = np.array([hi for _, hi in scene.domain])
@@ -294,8 +302,8 @@ class _Gas:
         else:
             start = self._sort(~gone)
             if self.vhs is None:
-                equilibrate(self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
-                            self.cells.s2)
+                equilibrate(self.x, self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
+                            self.cells.s2, self._slopes(start, UNWEIGHTED))
             else:
                 self.collisions += collide(self.v, self.e, start, self.cells.volume, dt, *self.vhs, self.zeta,
                                            self.seed, n, self.sigma_g_max, self.cells.s0, self.cells.s1, self.cells.s2)
@@ -319,9 +327,19 @@ class _Gas:
         sorted_buffers = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, self.w))
         self.x, self.v, self.e, self.w, _ = resampled_redraw(self.x, self.v, self.e, self.w, start, self.target,
                                                              self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
-                                                             self.cells.s2, out=self._spare)
+                                                             self.cells.s2, out=self._spare,
+                                                             slopes=self._slopes(start, self.w))
         self._spare = sorted_buffers
         return start
+
+    def _slopes(self, start, weights) -> np.ndarray:
+        """The slopes of the mean velocity the redraw draws about
+        (:func:`limited_slopes`; :data:`NO_SLOPES` under ``profile="uniform"``)
+        of the particles in cell order."""
+        if self.profile == "uniform":
+            return NO_SLOPES
+        count, mean = cell_means(self.v, self.e, weights, start, self.zeta)
+        return limited_slopes(count, mean, self.shape, self.spacing, self.scene.periodic)
 
     def _sort(self, keep) -> np.ndarray:
         """Put the particles flagged in ``keep`` (and their weights, in r–z)
