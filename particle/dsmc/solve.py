@@ -483,7 +483,9 @@ class _Run(RunRecord):
     def output(self):
         fields = {name: self.stacked(name) for name in self.scene.fields}
         s = self.settings
-        cells = ("per-cell equilibrium redraw conserving momentum and energy" if self.gas.vhs is None else
+        about = (" about minmod-limited linear profiles of the velocity and temperature across the cell"
+                 if self.gas.profile == "linear" else "")
+        cells = (f"per-cell equilibrium redraw{about} conserving momentum and energy" if self.gas.vhs is None else
                  f"no-time-counter VHS collisions (omega {s['omega']:g}) with Larsen-Borgnakke rotational exchange "
                  f"(Z_rot {s['z_rot']:g}), mean free path {s['mean_free_path']:g} m at the lowest initial density")
         scheme = (f"{'equilibrium DSMC (Pullin)' if self.gas.vhs is None else 'DSMC'}: free flight, specular plane "

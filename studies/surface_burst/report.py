@@ -60,16 +60,24 @@ from partmesh.compare.metrics import schlieren  # noqa: E402
 
 
 def label(ds) -> str:
-    """Method, geometry and cell size."""
+    """Method, geometry and cell size, and a dsmc redraw's profile where it is not the default."""
     shape = "1D sphere" if ds.attrs["geometry"] == "spherical" else "r-z"
-    return f"{ds.attrs['method']} {shape} dx={ds.attrs['dx']:g} m"
+    return f"{ds.attrs['method']} {shape} dx={ds.attrs['dx']:g} m" + "".join(f" {v}" for v in variant(ds))
 
 
 def file_label(ds) -> str:
-    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``, ``fv_1d_2p5mm``."""
+    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``, ``fv_1d_2p5mm``, ``dsmc_rz_2cm_linear``."""
     mm = round(ds.attrs["dx"] * 1e3, 6)
     size = (f"{mm / 10:g}cm" if mm >= 10 else f"{mm:g}mm").replace(".", "p")
-    return f"{ds.attrs['method']}_{'1d' if ds.attrs['geometry'] == 'spherical' else 'rz'}_{size}"
+    shape = "1d" if ds.attrs["geometry"] == "spherical" else "rz"
+    return "_".join([ds.attrs["method"], shape, size, *variant(ds)])
+
+
+def variant(ds) -> list:
+    """The settings of a run that set it apart from its method's defaults at its cell size: a dsmc redraw's
+    ``profile`` other than uniform."""
+    solver = json.loads(ds.attrs["parameters"])["solver"]
+    return [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
 
 
 def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
