@@ -152,7 +152,7 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
     are too short, which an inflow's particles then fill without copying
     the rest.
 
-    ``slopes`` (ncell, 2, 3): the draw is about the cell's linear velocity
+    ``slopes`` (ncell, 2, 4): the draw is about the cell's linear velocity and temperature
     profile (:mod:`partmesh.particle.dsmc.profile`) at the new positions."""
     first = resampled_starts(w, start, target)
     m = int(first[-1])

@@ -38,7 +38,7 @@ def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slope
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
     energies ``e`` (n,) of the particles of every cell with ≥ 2 of them,
     about the cell's mean velocity, or about its linear profile with the
-    cell's ``slopes`` (ncell, dim, 3) at the positions ``x``
+    cell's ``slopes`` (ncell, dim, 4) at the positions ``x``
     (:mod:`partmesh.particle.dsmc.profile`; ``slopes`` of no rows: uniform).
 
     The particles are in cell order (:func:`partmesh.particle.dsmc.cells.sort_into_cells`):

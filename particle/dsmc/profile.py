@@ -184,12 +184,19 @@ def redrawn_about_profile(x, v, e, a, b, U0, U1, U2, thermal, weight, zeta, slop
         half_squares += 0.5 * (P0 * P0 + P1 * P1 + P2 * P2)
         crossed += (v[i, 0] - m0) * P0 + (v[i, 1] - m1) * P1 + (v[i, 2] - m2) * P2
     f = alpha = 0.0
-    if weight * half_squares > NEGLIGIBLE_PROFILE * thermal:
-        share = weight * half_squares / max(thermal, 1e-300)
+    if thermal > 0.0 and weight * half_squares > NEGLIGIBLE_PROFILE * thermal:
+        share = weight * half_squares / thermal
         f = 1.0 if share <= MAX_PROFILE_SHARE else np.sqrt(MAX_PROFILE_SHARE / share)
         alpha = crossed / (2.0 * half_squares)
-        drawn -= 0.5 * crossed * alpha
-    s2 = max(thermal - f * f * weight * half_squares, 0.0) / (weight * drawn)
+        # ½ Σ |c − c̄ − α P|² + Σ ε summed anew: from ½ Σ |c − c̄|² − ½ α Σ c·P it cancels where c lies along P
+        drawn = 0.0
+        for i in range(a, b):
+            P0, P1, P2 = velocity_profile_at(x, i, slopes, cell, xb0, xb1)
+            d0, d1, d2 = v[i, 0] - m0 - alpha * P0, v[i, 1] - m1 - alpha * P1, v[i, 2] - m2 - alpha * P2
+            drawn += 0.5 * (d0 * d0 + d1 * d1 + d2 * d2)
+            if zeta > 0.0:
+                drawn += e[i]
+    s2 = max(thermal - f * f * weight * half_squares, 0.0) / (weight * drawn) if drawn > 0.0 else 0.0
     s = np.sqrt(s2)
     beta = f - s * alpha
     for i in range(a, b):
