@@ -30,13 +30,12 @@ def _cells(sizes, rng, bulk=1.0, zeta=2.0):
     return v, e, cell, start
 
 
-def _redraw(v, e, start, zeta, seed, step, x=None, slopes=NO_SLOPES):
-    """Redraw in place (about the linear profile of ``slopes`` at ``x``, if
-    given); returns the per-cell sums the redraw reports."""
+def _redraw(v, e, start, zeta, seed, step):
+    """Redraw in place about each cell's mean velocity (no profile: the
+    positions are not read); returns the per-cell sums the redraw reports."""
     ncell = start.size - 1
     count, momentum, energy = np.zeros(ncell), np.zeros((ncell, 3)), np.zeros(ncell)
-    x = np.zeros((v.shape[0], 1)) if x is None else x
-    equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes)
+    equilibrate(np.zeros((v.shape[0], 1)), v, e, start, zeta, seed, step, count, momentum, energy, NO_SLOPES)
     return count, momentum, energy
 
 

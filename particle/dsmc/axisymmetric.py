@@ -38,7 +38,7 @@ import math
 import numba
 import numpy as np
 
-from partmesh.particle.dsmc.cells import particle_buffers
+from partmesh.particle.dsmc.cells import particle_buffers, weighted_sums
 from partmesh.particle.dsmc.equilibrate import drawn_deviations, set_about
 from partmesh.particle.dsmc.move import REFLECT
 from partmesh.particle.dsmc.profile import NO_SLOPES, redrawn_about_profile
@@ -171,16 +171,7 @@ def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, e
     dim = x.shape[1]
     for c in numba.prange(ncell):
         a, b, k0, k1 = start[c], start[c + 1], first[c], first[c + 1]
-        S0 = p0 = p1 = p2 = total = 0.0
-        for i in range(a, b):
-            S0 += w[i]
-            p0 += w[i] * v[i, 0]
-            p1 += w[i] * v[i, 1]
-            p2 += w[i] * v[i, 2]
-            heat = 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
-            if zeta > 0.0:
-                heat += e[i]
-            total += w[i] * heat
+        S0, p0, p1, p2, total = weighted_sums(v, e, w, a, b, zeta)
         mass[c] = S0
         momentum[c, 0], momentum[c, 1], momentum[c, 2] = p0, p1, p2
         energy[c] = total

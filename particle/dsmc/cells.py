@@ -114,6 +114,26 @@ def sort_into_cells(x, v, e, w, keep, lo, spacing, shape, chunks, xs, vs, es, ws
 
 
 @numba.njit(cache=True, inline="always")
+def weighted_sums(v, e, w, a, b, zeta):
+    """``(Σw, Σ w v_x, Σ w v_y, Σ w v_z, Σ w (½|v|² + e))`` of the particles
+    ``a:b``; ``w`` empty means weights 1, and the internal energies count
+    only if ``zeta`` > 0."""
+    weighted = w.shape[0] > 0
+    S = p0 = p1 = p2 = total = 0.0
+    for i in range(a, b):
+        wi = w[i] if weighted else 1.0
+        S += wi
+        p0 += wi * v[i, 0]
+        p1 += wi * v[i, 1]
+        p2 += wi * v[i, 2]
+        heat = 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
+        if zeta > 0.0:
+            heat += e[i]
+        total += wi * heat
+    return S, p0, p1, p2, total
+
+
+@numba.njit(cache=True, inline="always")
 def record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy):
     """Write N, Σv (three components) and Σ(½|v|² + e) of the particles
     ``a:b`` (cell ``cell``, once sorted) into ``count``, ``momentum`` and

@@ -14,19 +14,24 @@ the cell's means carried to its place,
 G_c and g_c the slopes of the cell means, limited by minmod between the two
 neighbours along each axis (van Leer 1979, J. Comput. Phys. 32, 101; zero
 where a neighbour is missing: an edge that does not wrap, a cell with fewer
-than two particles), x̄_c the centroid of the cell's particles, so that
-Σ w_i (x_i − x̄_c) = 0. The draw c_i, ε_i (standard normals, Gamma variates)
-is scaled to the local temperature, c_i ← √r_i c_i and ε_i ← r_i ε_i with
-r_i = θ(x_i)/θ_c kept in [1/4, 4]; its mean is removed and it is made
-orthogonal to the velocity profile P_i = G_c (x_i − x̄_c), c ← c − α P with
-α = Σ c_i·P_i / Σ |P_i|². The profile's energy K_c = ½ Σ w_i |P_i|² comes out
-of the thermal energy E_th; where it would exceed ½ E_th, the profile is
+than two particles), x̄_c the centroid of the cell's particles (whose
+weights w_i are equal when they are redrawn), so that Σ w_i (x_i − x̄_c) = 0.
+The draw c_i, ε_i (standard normals, Gamma variates) is scaled to the
+local temperature, c_i ← √r_i c_i and ε_i ← r_i ε_i with r_i = θ(x_i)/θ_c
+kept in [1/4, 4]; its mean is removed and it is made orthogonal to the
+velocity profile P_i = G_c (x_i − x̄_c), c ← c − α P with
+α = Σ c_i·P_i / Σ |P_i|². The profile's energy K_c = ½ Σ w_i |P_i|² comes
+out of the thermal energy E_th; where it would exceed ½ E_th, the profile is
 scaled by f = √(E_th / 2K_c). Then
 
     v_i = U_c + f P_i + s c_i,   e_i = s² ε_i,
     s² = (E_th − f² K_c) / (½ Σ w_i |c_i|² + Σ w_i ε_i),
 
-keeps the cell's momentum and energy to round-off. It is the particle
+keeps the cell's momentum and energy to round-off. θ_c is the heat about
+U_c, the profile's energy included, so the temperature the particles carry
+is θ(x_i) (E_th − f² K_c)/E_th: the profile's share of the heat (at most
+a half, and far less wherever the flow is smooth on the cell) comes out
+of the temperature's level and slope alike. It is the particle
 counterpart of a MUSCL reconstruction, and of the affine transfer by which
 APIC keeps a particle-in-cell method from dissipating its velocity field
 (Jiang, Schroeder, Selle, Teran & Stomakhin 2015, ACM Trans. Graph. 34, 51).
@@ -43,6 +48,8 @@ from __future__ import annotations
 
 import numba
 import numpy as np
+
+from partmesh.particle.dsmc.cells import weighted_sums
 
 #: the mean-velocity profiles of the redraw
 PROFILES = ("uniform", "linear")
@@ -64,23 +71,12 @@ def cell_means(v, e, w, start, zeta):
     ``zeta`` > 0); ``w`` empty means equal weights. A cell without
     particles has means 0."""
     ncell = start.size - 1
-    weighted = w.shape[0] > 0
     count = np.empty(ncell, dtype=np.int64)
     mean = np.zeros((ncell, 4))
     for c in numba.prange(ncell):
         a, b = start[c], start[c + 1]
         count[c] = b - a
-        S = p0 = p1 = p2 = total = 0.0
-        for i in range(a, b):
-            wi = w[i] if weighted else 1.0
-            S += wi
-            p0 += wi * v[i, 0]
-            p1 += wi * v[i, 1]
-            p2 += wi * v[i, 2]
-            heat = 0.5 * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
-            if zeta > 0.0:
-                heat += e[i]
-            total += wi * heat
+        S, p0, p1, p2, total = weighted_sums(v, e, w, a, b, zeta)
         if S > 0.0:
             U0, U1, U2 = p0 / S, p1 / S, p2 / S
             thermal = total - 0.5 * S * (U0 * U0 + U1 * U1 + U2 * U2)

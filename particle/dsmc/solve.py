@@ -132,16 +132,13 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
     start = sort_into_cells(x, v, e, UNWEIGHTED, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(),
                             e.copy(), UNWEIGHTED)
-    for slopes in (NO_SLOPES, np.zeros((1, dim, 4))):
-        equilibrate(x, v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    equilibrate(x, v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1), NO_SLOPES)
     cell_means(v, e, UNWEIGHTED, start, zeta)
     if radial:
         w, sides = np.ones(2), np.full(2, REFLECT, dtype=np.int64)
         radial_flight(x, v, w, 0.0, 1.0, REFLECT)
         free_flight(x[:, 1:], v[:, 1:], 0.0, lo[1:], spacing[1:], sides, w)
-        for slopes in (NO_SLOPES, np.zeros((1, dim, 4))):
-            resampled_redraw(x, v, e, w, start, np.ones(1), zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1),
-                             slopes=slopes)
+        resampled_redraw(x, v, e, w, start, np.ones(1), zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1))
         cell_means(v, e, w, start, zeta)
     if collisions == "larsen-borgnakke":
         collide(v, e, start, np.ones(1), 1.0, 1.0, 1.0, 0.74, 5.0, zeta, 0, 0, np.ones(1), np.zeros(1),
@@ -333,9 +330,9 @@ class _Gas:
         return start
 
     def _slopes(self, start, weights) -> np.ndarray:
-        """The slopes of the mean velocity the redraw draws about
-        (:func:`limited_slopes`; :data:`NO_SLOPES` under ``profile="uniform"``)
-        of the particles in cell order."""
+        """The slopes of the mean velocity and temperature the redraw draws
+        about (:func:`limited_slopes`; :data:`NO_SLOPES` under
+        ``profile="uniform"``) of the particles in cell order."""
         if self.profile == "uniform":
             return NO_SLOPES
         count, mean = cell_means(self.v, self.e, weights, start, self.zeta)
