@@ -11,10 +11,11 @@ the cell's means carried to its place,
 
     U(x_i) = U_c + G_c (x_i − x̄_c),   θ(x_i) = θ_c + g_c · (x_i − x̄_c),
 
-G_c and g_c the slopes of the cell means, limited by minmod between the two
-neighbours along each axis (van Leer 1979, J. Comput. Phys. 32, 101; zero
-where a neighbour is missing: an edge that does not wrap, a cell with fewer
-than two particles), x̄_c the centroid of the cell's particles (whose
+G_c and g_c the slopes of the cell means, limited by the monotonized central
+limiter between the two neighbours along each axis, minmod(2a, 2b, (a + b)/2)
+of the backward and forward differences a, b (van Leer 1977, J. Comput.
+Phys. 23, 276; zero where a neighbour is missing: an edge that does not wrap,
+a cell with fewer than two particles), x̄_c the centroid of the cell's particles (whose
 weights w_i are equal when they are redrawn), so that Σ w_i (x_i − x̄_c) = 0.
 The draw c_i, ε_i (standard normals, Gamma variates) is scaled to the
 local temperature, c_i ← √r_i c_i and ε_i ← r_i ε_i with r_i = θ(x_i)/θ_c
@@ -86,7 +87,7 @@ def cell_means(v, e, w, start, zeta):
 
 
 def limited_slopes(count, mean, shape, spacing, periodic) -> np.ndarray:
-    """The minmod-limited slopes ∂q/∂x_a of the cell means ``mean`` (ncell,
+    """The MC-limited slopes ∂q/∂x_a of the cell means ``mean`` (ncell,
     4: U and θ, :func:`cell_means`) on the grid of ``shape`` (cells per
     axis, x fastest) and ``spacing``; an axis wraps where ``periodic[a]``.
     Cells with ``count`` < 2 give no slope and serve as no neighbour.
@@ -100,10 +101,17 @@ def limited_slopes(count, mean, shape, spacing, periodic) -> np.ndarray:
         ahead, ahead_filled = _neighbour(grid, filled, axis, +1, periodic[a])
         behind, behind_filled = _neighbour(grid, filled, axis, -1, periodic[a])
         forward, backward = ahead - grid, grid - behind
-        slope = np.where(forward * backward > 0.0, np.sign(forward) * np.minimum(abs(forward), abs(backward)), 0.0)
+        slope = monotonized_central(backward, forward)
         slope[~(filled & ahead_filled & behind_filled)] = 0.0
         slopes[:, a, :] = slope.reshape(-1, 4) / spacing[a]
     return slopes
+
+
+def monotonized_central(a, b):
+    """The MC limiter of backward and forward differences ``a``, ``b``:
+    minmod(2a, 2b, (a + b)/2), zero where their signs differ (van Leer 1977)."""
+    central = 0.5 * (a + b)
+    return np.where(a * b > 0.0, np.sign(central) * np.minimum(abs(central), 2.0 * np.minimum(abs(a), abs(b))), 0.0)
 
 
 def _neighbour(grid, filled, axis, shift, wraps):

@@ -480,7 +480,7 @@ class _Run(RunRecord):
     def output(self):
         fields = {name: self.stacked(name) for name in self.scene.fields}
         s = self.settings
-        about = (" about minmod-limited linear profiles of the velocity and temperature across the cell"
+        about = (" about MC-limited linear profiles of the velocity and temperature across the cell"
                  if self.gas.profile == "linear" else "")
         cells = (f"per-cell equilibrium redraw{about} conserving momentum and energy" if self.gas.vhs is None else
                  f"no-time-counter VHS collisions (omega {s['omega']:g}) with Larsen-Borgnakke rotational exchange "
