@@ -63,6 +63,19 @@ def test_limited_slopes_are_the_mc_limit_of_the_neighbour_differences_none_at_an
     assert np.count_nonzero(got) > 30
 
 
+@pytest.mark.parametrize("periodic", [False, True])
+def test_limited_slopes_on_a_line_are_those_of_a_one_row_grid(periodic):
+    # a row of 12 cells is a 12 x 1 grid whose second axis has no neighbours: the loop's x slopes
+    rng = np.random.default_rng(5)
+    count = np.array([5, 5, 5, 1, 5, 5, 5, 0, 5, 5, 5, 5])
+    mean = rng.normal(size=(12, 4))
+    mean[:, 0] = np.cumsum(rng.uniform(0.1, 1.0, 12))  # rising: a slope wherever both neighbours hold two or more
+    got = limited_slopes(count, mean, (12,), np.array([0.25]), (periodic,))
+    want = _slopes_by_loop(count, mean, (12, 1), np.array([0.25, 1.0]), (periodic, False))
+    assert got.shape == (12, 1, 4)
+    np.testing.assert_array_equal(got, want[:, :1, :])
+    assert np.count_nonzero(got[:, 0, 0]) == 4  # cells 1, 5, 9, 10
+
 def _cell_of_particles(rng, N, slopes, dim=2):
     """One cell [0, 1]^dim of N particles, unit thermal spread, bulk velocity (3, -1, 0.5)."""
     x = rng.uniform(0.0, 1.0, (N, dim))
