@@ -100,39 +100,43 @@ def limited_slopes(count, mean, shape, spacing, periodic) -> np.ndarray:
     axis, x fastest) and ``spacing``; an axis wraps where ``periodic[a]``.
     Cells with ``count`` < 2 give no slope and serve as no neighbour.
     Returns (ncell, dim, 4)."""
-    dim = len(shape)
-    grid = mean.reshape(tuple(reversed(shape)) + (4,))  # (ny, nx, 4): x is the last grid axis
-    filled = (count >= 2).reshape(tuple(reversed(shape)))
-    slopes = np.zeros((len(count), dim, 4))
-    for a in range(dim):
-        axis = dim - 1 - a
-        ahead, ahead_filled = _neighbour(grid, filled, axis, +1, periodic[a])
-        behind, behind_filled = _neighbour(grid, filled, axis, -1, periodic[a])
-        forward, backward = ahead - grid, grid - behind
-        slope = monotonized_central(backward, forward)
-        slope[~(filled & ahead_filled & behind_filled)] = 0.0
-        slopes[:, a, :] = slope.reshape(-1, 4) / spacing[a]
+    return _slopes_on_grid(np.ascontiguousarray(count, dtype=np.int64), np.ascontiguousarray(mean, dtype=float),
+                           np.asarray(shape, dtype=np.int64), np.asarray(spacing, dtype=float),
+                           np.asarray(periodic, dtype=np.bool_))
+
+
+@numba.njit(parallel=True, cache=True)
+def _slopes_on_grid(count, mean, shape, spacing, periodic):
+    """:func:`limited_slopes`, cell by cell: along axis a, cell c's
+    neighbours are c ± stride_a, wrapped across the edge where the axis is
+    periodic."""
+    dim = shape.size
+    slopes = np.zeros((count.size, dim, 4))
+    for c in numba.prange(count.size):
+        if count[c] < 2:
+            continue
+        stride = 1
+        for a in range(dim):
+            n = shape[a]
+            i = (c // stride) % n
+            ahead = c + stride if i + 1 < n else (c - (n - 1) * stride if periodic[a] else -1)
+            behind = c - stride if i > 0 else (c + (n - 1) * stride if periodic[a] else -1)
+            if ahead >= 0 and behind >= 0 and count[ahead] >= 2 and count[behind] >= 2:
+                for q in range(4):
+                    slopes[c, a, q] = monotonized_central(mean[c, q] - mean[behind, q],
+                                                          mean[ahead, q] - mean[c, q]) / spacing[a]
+            stride *= n
     return slopes
 
 
+@numba.njit(cache=True, inline="always")
 def monotonized_central(a, b):
     """The MC limiter of backward and forward differences ``a``, ``b``:
     minmod(2a, 2b, (a + b)/2), zero where their signs differ (van Leer 1977)."""
+    if not a * b > 0.0:
+        return 0.0
     central = 0.5 * (a + b)
-    return np.where(a * b > 0.0, np.sign(central) * np.minimum(abs(central), 2.0 * np.minimum(abs(a), abs(b))), 0.0)
-
-
-def _neighbour(grid, filled, axis, shift, wraps):
-    """The cell means and fill of the neighbour ``shift`` cells along grid
-    ``axis`` of every cell (none, unfilled, past an edge that does not wrap)."""
-    near = np.roll(grid, -shift, axis=axis)
-    near_filled = np.roll(filled, -shift, axis=axis)
-    if not wraps:
-        edge = [slice(None)] * filled.ndim
-        edge[axis] = -1 if shift > 0 else 0
-        near_filled = near_filled.copy()
-        near_filled[tuple(edge)] = False
-    return near, near_filled
+    return np.sign(central) * min(abs(central), 2.0 * min(abs(a), abs(b)))
 
 
 @numba.njit(cache=True, inline="always")
