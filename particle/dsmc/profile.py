@@ -42,13 +42,15 @@ beside the scatter of the cell means (√(θ/N) in each velocity component,
 some 50 m/s in air at 30 a cell): on a weak front spread over ten cells or
 more, minmod's smaller difference keeps little of the slope and MC's
 central difference much more of it. On ``surface_burst`` in r–z at 4 cm
-to 17.5 ms (seed 1) the raw peak overpressure over Kingery–Bulmash at Z2 /
-Z3 / Z5 / Z8 reads 0.901 / 0.829 / 0.849 / 0.863 with MC slopes and 0.884 /
-0.774 / 0.728 / 0.749 with minmod's (the uniform redraw's record at 4 cm:
-Z3 / Z5 / Z8 0.725 / 0.763 / 0.655), each run about 840 s beside the other;
-a smaller or larger step did not help (minmod slopes to 13 ms: cfl 0.5 and 2
-read lower than cfl 1 at Z2 and Z3). On a 1D Sod tube of 400 cells (3 000
-particles a cell) the L1 density error falls from 9.2e-3 (uniform) to
+to 17.5 ms the raw peak overpressure over Kingery–Bulmash at Z2 / Z3 / Z5 /
+Z8 reads 0.901 / 0.829 / 0.849 / 0.863 (seed 1) and 0.915 / 0.751 / 0.699 /
+0.751 (seed 2) with MC slopes, 0.884 / 0.774 / 0.728 / 0.749 and 0.863 /
+0.783 / 0.705 / 0.744 with minmod's: a gain at Z5 and Z8 on the mean of
+the two, inside the scatter from seed to seed (the uniform redraw's record
+at 4 cm: Z3 / Z5 / Z8 0.725 / 0.763 / 0.655); a smaller or larger step did
+not help (minmod slopes to 13 ms: cfl 0.5 and 2 read lower than cfl 1 at
+Z2 and Z3). On a 1D Sod tube of 400 cells (3 000 particles a cell), where
+the scatter is small, the L1 density error falls from 9.2e-3 (uniform) to
 6.2e-3 (6.7e-3 with minmod slopes; first-order EFM finite volumes on the
 same cells: 7.5e-3).
 """
