@@ -66,7 +66,8 @@ def label(ds) -> str:
 
 
 def file_label(ds) -> str:
-    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``, ``fv_1d_2p5mm``, ``dsmc_rz_2cm_linear``."""
+    """:func:`label` as a file name: ``dsmc_rz_2cm``, ``fv_1d_4mm``, ``fv_1d_2p5mm``, ``dsmc_rz_2cm_linear``,
+    ``dsmc_rz_2cm_linear_seed2``."""
     mm = round(ds.attrs["dx"] * 1e3, 6)
     size = (f"{mm / 10:g}cm" if mm >= 10 else f"{mm:g}mm").replace(".", "p")
     shape = "1d" if ds.attrs["geometry"] == "spherical" else "rz"
@@ -74,10 +75,11 @@ def file_label(ds) -> str:
 
 
 def variant(ds) -> list:
-    """The settings of a run that set it apart from its method's defaults at its cell size: a dsmc redraw's
-    ``profile`` other than uniform."""
+    """The settings of a run that set it apart from the record's other runs at its cell size: a dsmc redraw's
+    ``profile`` other than uniform, and a seed other than 1 (every run of the record before it used seed 1)."""
     solver = json.loads(ds.attrs["parameters"])["solver"]
-    return [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
+    profile = [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
+    return profile + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
 
 
 def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
