@@ -76,6 +76,7 @@ def test_limited_slopes_on_a_line_are_those_of_a_one_row_grid(periodic):
     np.testing.assert_array_equal(got, want[:, :1, :])
     assert np.count_nonzero(got[:, 0, 0]) == 4  # cells 1, 5, 9, 10
 
+
 def _cell_of_particles(rng, N, slopes, dim=2):
     """One cell [0, 1]^dim of N particles, unit thermal spread, bulk velocity (3, -1, 0.5)."""
     x = rng.uniform(0.0, 1.0, (N, dim))
