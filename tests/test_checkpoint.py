@@ -27,6 +27,10 @@ def _run_command(case, method, dx, output, extra=()):
 @pytest.mark.parametrize("case, method, dx, extra, settings, stop", [
     ("sod", "fv", 1e-4, (), {}, signal.SIGTERM),
     ("sod", "dsmc", 2e-3, ("--set", "ppc=60", "--seed", "4"), {"ppc": 60, "seed": 4}, signal.SIGINT),
+    # a hot light driver sets the step; the cold gas ahead is redrawn at its own intervals, held in the checkpoint
+    ("sod", "dsmc", 2e-3, ("--set", "ppc=60", "--seed", "4", "--set", "redraw=local", "--set", "left_rho=0.15",
+                           "--set", "left_p=1.6"),
+     {"ppc": 60, "seed": 4, "redraw": "local", "scene": {"left_rho": 0.15, "left_p": 1.6}}, signal.SIGTERM),
     ("sod", "sph", 2.5e-4, (), {}, signal.SIGTERM),
     ("dam_break", "swe", 1.25e-3, (), {}, signal.SIGINT),
     ("standing_wave", "wcsph", 0.025, ("--t-end", "0.5"), {"t_end": 0.5}, signal.SIGTERM),
@@ -46,10 +50,12 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, case, metho
     assert f"stopped by {stop.name}" in err and "resume it from" in err
     partial = read(output)
     assert partial.attrs["status"] == "failed" and partial.time.values[-1] < partmesh.scene(case).t_end
-    resumed = subprocess.run(_run_command(case, method, dx, output, (*extra, "--resume")), capture_output=True, text=True)
+    resumed = subprocess.run(_run_command(case, method, dx, output, (*extra, "--resume")), capture_output=True,
+                             text=True)
     assert resumed.returncode == 0, resumed.stderr
     assert not checkpoint.exists()  # a complete run leaves no checkpoint behind
-    whole = partmesh.run(case, method, dx=dx, progress=False, **settings)
+    scene = partmesh.scene(case, **settings.get("scene", {}))
+    whole = partmesh.run(scene, method, dx=dx, progress=False, **{k: v for k, v in settings.items() if k != "scene"})
     result = read(output)
     assert result.attrs["status"] == "ok" and result.attrs["n_steps"] == whole.attrs["n_steps"]
     for name in whole.data_vars:

@@ -13,6 +13,7 @@ from scipy import stats
 from partmesh.particle.dsmc import random
 from partmesh.particle.dsmc.cells import sort_into_cells
 from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc.intervals import EVERY_CELL
 from partmesh.particle.dsmc.profile import NO_SLOPES
 from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 
@@ -35,7 +36,8 @@ def _redraw(v, e, start, zeta, seed, step):
     positions are not read); returns the per-cell sums the redraw reports."""
     ncell = start.size - 1
     count, momentum, energy = np.zeros(ncell), np.zeros((ncell, 3)), np.zeros(ncell)
-    equilibrate(np.zeros((v.shape[0], 1)), v, e, start, zeta, seed, step, count, momentum, energy, NO_SLOPES)
+    equilibrate(np.zeros((v.shape[0], 1)), v, e, start, zeta, seed, step, count, momentum, energy, NO_SLOPES,
+                EVERY_CELL)
     return count, momentum, energy
 
 

@@ -15,6 +15,7 @@ import partmesh
 from partmesh.cases.errors import InputError
 from partmesh.particle.dsmc.axisymmetric import resampled_redraw
 from partmesh.particle.dsmc.equilibrate import equilibrate
+from partmesh.particle.dsmc.intervals import EVERY_CELL
 from partmesh.particle.dsmc.profile import (
     MAX_PROFILE_SHARE,
     NO_SLOPES,
@@ -101,7 +102,7 @@ def test_the_redraw_about_a_profile_conserves_the_cells_momentum_and_energy_to_r
     e = e if zeta > 0 else np.zeros(N)
     before = _sums(v, e)
     v1, e1 = v.copy(), e.copy()
-    equilibrate(x, v1, e1, start, zeta, seed, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    equilibrate(x, v1, e1, start, zeta, seed, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes, EVERY_CELL)
     after = _sums(v1, e1)
     scale = before[0] * (np.abs(before[1] / before[0]).sum() + np.sqrt(2 * before[2] / before[0]))
     np.testing.assert_allclose(after[1], before[1], rtol=0, atol=1e-12 * scale)
@@ -130,7 +131,7 @@ def test_the_redrawn_particles_carry_the_velocity_and_temperature_profiles():
     G = np.array([[0.8, -0.3, 0.1, 0.4], [0.2, 0.5, 0.0, -0.2]])  # (axis, quantity): dU/dx, dU/dy, dθ/dx, dθ/dy
     x, v, e, start, slopes = _cell_of_particles(rng, N, G)
     U_before = v.mean(axis=0)
-    equilibrate(x, v, e, start, zeta, 11, 2, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    equilibrate(x, v, e, start, zeta, 11, 2, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes, EVERY_CELL)
     design = np.column_stack([np.ones(N), x - x.mean(axis=0)])
     fitted = np.linalg.lstsq(design, v, rcond=None)[0]  # rows: intercept, d/dx, d/dy
     np.testing.assert_allclose(fitted[1:], G[:, :3], atol=0.04)  # (standard error 0.008)
@@ -154,7 +155,7 @@ def test_a_profile_steeper_than_the_heat_allows_is_scaled_to_take_its_cap():
     x, v, e, start, slopes = _cell_of_particles(rng, N, [[40.0, 0, 0, 0], [0, 0, 0, 0]])
     before = _sums(v, e)
     thermal = before[2] - 0.5 * (before[1] ** 2).sum() / N
-    equilibrate(x, v, e, start, 2.0, 3, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    equilibrate(x, v, e, start, 2.0, 3, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes, EVERY_CELL)
     d = x[:, 0] - x[:, 0].mean()
     f = np.dot(v[:, 0] - v[:, 0].mean(), d) / np.dot(d, d) / 40.0  # the scale of the slope the draw kept
     profile_energy = 0.5 * (f * 40.0) ** 2 * np.dot(d, d)
@@ -180,7 +181,7 @@ def test_cell_means_are_the_weighted_velocity_and_temperature_of_each_cell():
 def test_a_cell_without_heat_keeps_its_velocity_whatever_the_profile(slopes):
     # three particles of one velocity: the heat Σ½|v|² − ½N|U|² rounds to a few 1e-14 below zero
     x, v, e = np.array([[0.1], [0.5], [0.9]]), np.tile([0.3, 1e3, -7.0], (3, 1)), np.zeros(3)
-    equilibrate(x, v, e, np.array([0, 3]), 0.0, 1, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes)
+    equilibrate(x, v, e, np.array([0, 3]), 0.0, 1, 1, np.zeros(1), np.zeros((1, 3)), np.zeros(1), slopes, EVERY_CELL)
     assert np.all(np.isfinite(v))
     np.testing.assert_allclose(v, np.tile([0.3, 1e3, -7.0], (3, 1)), rtol=1e-9)
 

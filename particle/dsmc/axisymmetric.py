@@ -40,6 +40,7 @@ import numpy as np
 
 from partmesh.particle.dsmc.cells import particle_buffers, weighted_sums
 from partmesh.particle.dsmc.equilibrate import drawn_deviations, set_about
+from partmesh.particle.dsmc.intervals import EVERY_CELL
 from partmesh.particle.dsmc.move import REFLECT
 from partmesh.particle.dsmc.profile import NO_SLOPES, redrawn_about_profile
 from partmesh.particle.dsmc.random import stream, uniform
@@ -115,17 +116,18 @@ def radial_flight(x, v, w, dt, R, outer):
 
 
 @numba.njit(parallel=True, cache=True)
-def resampled_starts(w, start, target):
+def resampled_starts(w, start, target, due):
     """The cell starts of the particles :func:`resampled_redraw` makes of
     those in cell order (cell c holds ``start[c]:start[c+1]``, weights
-    ``w``): every cell with ≥ 2 particles holds
-    ``M = max(2, round(Σw/target[c]))``, the others as many as before."""
+    ``w``): every cell with ≥ 2 particles that is ``due`` (all where
+    ``due`` has no rows) holds ``M = max(2, round(Σw/target[c]))``, the
+    others as many as before."""
     ncell = start.size - 1
     counts = np.empty(ncell + 1, dtype=np.int64)
     counts[0] = 0
     for c in numba.prange(ncell):
         a, b = start[c], start[c + 1]
-        if b - a < 2:
+        if b - a < 2 or (due.size > 0 and not due[c]):
             counts[c + 1] = b - a
             continue
         total = 0.0
@@ -136,7 +138,7 @@ def resampled_starts(w, start, target):
 
 
 def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum, energy, out=None,
-                     slopes=NO_SLOPES):
+                     slopes=NO_SLOPES, due=EVERY_CELL):
     """The equilibrium redraw of weighted particles in cell order (cell c
     holds ``start[c]:start[c+1]``) that also resamples every cell with ≥ 2
     particles to ``M = max(2, round(Σw/target[c]))`` particles of weight
@@ -153,18 +155,21 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
     the rest.
 
     ``slopes`` (ncell, 2, 4): the draw is about the cell's linear velocity and temperature
-    profile (:mod:`partmesh.particle.dsmc.profile`) at the new positions."""
-    first = resampled_starts(w, start, target)
+    profile (:mod:`partmesh.particle.dsmc.profile`) at the new positions.
+
+    ``due`` (ncell,): the cells redrawn (:mod:`partmesh.particle.dsmc.intervals`);
+    the others keep their particles and weights as they are."""
+    first = resampled_starts(w, start, target, due)
     m = int(first[-1])
     if out is None or min(a.shape[0] for a in out) < m:
         out = particle_buffers(m, x.shape[1], weighted=True)
     xs, vs, es, ws = (a[:m] for a in out)
-    _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes)
+    _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes, due)
     return xs, vs, es, ws, first
 
 
 @numba.njit(parallel=True, cache=True)
-def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes):
+def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes, due):
     """:func:`resampled_redraw` into ``xs, vs, es, ws``, cell c's new
     particles at ``first[c]:first[c+1]``."""
     ncell = start.size - 1
@@ -175,7 +180,7 @@ def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, e
         mass[c] = S0
         momentum[c, 0], momentum[c, 1], momentum[c, 2] = p0, p1, p2
         energy[c] = total
-        if b - a < 2:
+        if b - a < 2 or (due.size > 0 and not due[c]):
             for i in range(a, b):
                 xs[k0 + i - a] = x[i]
                 vs[k0 + i - a] = v[i]

@@ -34,7 +34,7 @@ from partmesh.particle.dsmc.random import gamma, normal, stream
 
 
 @numba.njit(parallel=True, cache=True)
-def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes):
+def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
     energies ``e`` (n,) of the particles of every cell with ≥ 2 of them,
     about the cell's mean velocity, or about its linear profile with the
@@ -46,13 +46,16 @@ def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slope
     freedom (0: ``e`` is left alone). Cell c draws from the stream
     ``(seed, step, c)``, so the result does not depend on the thread count.
     Fills, per cell, ``count`` (N), ``momentum`` (Σ v, (ncell, 3)) and
-    ``energy`` (Σ ½|v|² + e): the sums the redraw conserves."""
+    ``energy`` (Σ ½|v|² + e): the sums the redraw conserves, of every
+    cell, also those ``due`` (ncell,) leaves as they are
+    (:mod:`partmesh.particle.dsmc.intervals`; ``due`` of no rows: all
+    are redrawn)."""
     ncell = start.size - 1
     for cell in numba.prange(ncell):
         a, b = start[cell], start[cell + 1]
         # the cell's momentum and energy per unit particle mass
         N, p0, p1, p2, total = record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy)
-        if N < 2:
+        if N < 2 or (due.size > 0 and not due[cell]):
             continue
         U0, U1, U2 = p0 / N, p1 / N, p2 / N
         thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)

@@ -12,6 +12,7 @@ from partmesh.cases.errors import InputError, Unsupported
 from partmesh.cases.memory import elements_in
 from partmesh.cases.method import Memory, Method
 from partmesh.cases.settings import Settings, at_least, one_of, setting, within
+from partmesh.particle.dsmc.intervals import REDRAWS
 from partmesh.particle.dsmc.profile import PROFILES
 
 #: what happens in a cell over a step: the equilibrium redraw, or VHS collisions with Larsen–Borgnakke exchange
@@ -42,7 +43,10 @@ class DSMCSettings(Settings):
     ``profile="linear"`` redraws each cell about the limited linear profiles
     of its mean velocity and temperature instead of their cell values
     (:mod:`partmesh.particle.dsmc.profile`): less dissipation for about half
-    again the cost of a step. In an
+    again the cost of a step. ``redraw="local"`` redraws each cell at its
+    own Courant step, a multiple of the global one set by the fastest cell,
+    instead of every step (:mod:`partmesh.particle.dsmc.intervals`): less
+    dissipation in gas much slower than the fastest, and fewer draws. In an
     axisymmetric scene ``ppc`` is the count of every ring cell of the
     lowest initial density (radial weights)."""
 
@@ -55,6 +59,7 @@ class DSMCSettings(Settings):
     window: int = setting(1, at_least(1), "steps averaged into a frame, at least 1")
     collisions: str = setting("equilibrium", one_of(COLLISIONS), "collision model")
     profile: str = setting("uniform", one_of(PROFILES), "mean velocity across a cell in the redraw")
+    redraw: str = setting("every-step", one_of(REDRAWS), "when a cell is redrawn")
     mean_free_path: float | None = setting(None, positive, "mean free path at the lowest initial density [m]")
     omega: float = setting(0.74, within(0.5, 1.0),
                            "VHS viscosity exponent, in [0.5, 1]")
@@ -77,6 +82,9 @@ class DSMCSettings(Settings):
         if self.collisions != "equilibrium" and self.profile != "uniform":
             raise InputError(f"profile={self.profile!r} applies only to collisions='equilibrium' (true collisions "
                              "keep each particle's velocity).")
+        if self.collisions != "equilibrium" and self.redraw != "every-step":
+            raise InputError(f"redraw={self.redraw!r} applies only to collisions='equilibrium' (true collisions "
+                             "happen at their rate in every cell every step).")
         if self.collisions != "larsen-borgnakke" and self.mean_free_path is not None:
             raise InputError("mean_free_path applies only to collisions='larsen-borgnakke'; the equilibrium redraw "
                              "has none (it is the limit of a vanishing mean free path).")

@@ -12,7 +12,9 @@ energy exactly (:mod:`partmesh.particle.dsmc.equilibrate`), about the
 cell's mean velocity and temperature or, with ``profile="linear"``, about
 their limited linear profiles across the cell
 (:mod:`partmesh.particle.dsmc.profile`). Δt = C Δx / (max|U| + 3 √θ_max)
-over the cells, C = ``cfl``.
+over the cells, C = ``cfl``; with ``redraw="local"`` a cell is redrawn
+only at its own Courant step, a multiple of Δt
+(:mod:`partmesh.particle.dsmc.intervals`).
 
 With ``collisions="larsen-borgnakke"`` the redraw gives way to true binary
 collisions (:mod:`partmesh.particle.dsmc.collide`: no-time-counter selection, VHS
@@ -50,6 +52,7 @@ from partmesh.particle.dsmc.cells import UNWEIGHTED, cell_index, particle_buffer
 from partmesh.particle.dsmc.collide import collide
 from partmesh.particle.dsmc.equilibrate import equilibrate
 from partmesh.particle.dsmc.gas import internal_degrees, particles_in_cells
+from partmesh.particle.dsmc.intervals import EVERY_CELL, due_cells, signal_speeds
 from partmesh.particle.dsmc.method import DSMCSettings
 from partmesh.particle.dsmc.move import OPEN, PERIODIC, REFLECT, free_flight
 from partmesh.particle.dsmc.profile import NO_SLOPES, cell_means, limited_slopes
@@ -82,7 +85,7 @@ def solve(scene, settings: DSMCSettings):
     t0 = _time.perf_counter()
     _compile_kernels(scene.dim, zeta, settings.collisions, scene.geometry == "axisymmetric")
     compile_seconds = _time.perf_counter() - t0
-    gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed, settings.profile)
+    gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed, settings.profile, settings.redraw, settings.cfl)
     if settings.collisions == "larsen-borgnakke":
         gas.collide_with(settings.mean_free_path, settings.omega, settings.z_rot, settings.cfl)
     run = _Run(scene, gas, settings.record(), compile_seconds)
@@ -132,7 +135,7 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
     free_flight(x, v, 0.0, lo, spacing, np.full(2 * dim, REFLECT, dtype=np.int64))
     start = sort_into_cells(x, v, e, UNWEIGHTED, np.ones(2, dtype=np.bool_), lo, spacing, shape, 1, x.copy(), v.copy(),
                             e.copy(), UNWEIGHTED)
-    equilibrate(x, v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1), NO_SLOPES)
+    equilibrate(x, v, e, start, zeta, 0, 0, np.zeros(1), np.zeros((1, 3)), np.zeros(1), NO_SLOPES, EVERY_CELL)
     cell_means(v, e, UNWEIGHTED, start, zeta)
     if radial:
         w, sides = np.ones(2), np.full(2, REFLECT, dtype=np.int64)
@@ -155,7 +158,7 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
 class _Gas:
     """The particles of one run and the step that advances them."""
 
-    def __init__(self, scene, dx, ppc, zeta, seed, profile="uniform"):
+    def __init__(self, scene, dx, ppc, zeta, seed, profile="uniform", redraw="every-step", cfl=1.0):
         self.scene, self.zeta, self.seed, self.profile = scene, zeta, seed, profile
         dim = scene.dim
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -175,6 +178,10 @@ class _Gas:
         self.mass = float(rho.min()) * self.fill * float(np.prod(self.spacing)) / ppc
         self.initial_fields = (rho, u, v, p)  # the scene's initial state per cell: far field of an outflow
         self.ncell = int(np.prod(self.shape))
+        #: under ``redraw="local"``, the flight time since each cell's last redraw and the reach C Δx of a
+        #: redraw interval (:mod:`partmesh.particle.dsmc.intervals`); None: every cell every step
+        self.hold = np.zeros(self.ncell) if redraw == "local" else None
+        self.reach = cfl * self.dx
         flat = [np.array(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]  # (writable: one kernel signature)
         if self.radial:
             flat[0], flat[3] = flat[0] * self.fill, flat[3] * self.fill
@@ -212,7 +219,7 @@ class _Gas:
         counters."""
         return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells, "state": self.state,
                 "outflow": self.reservoirs.running, "sigma_g_max": self.sigma_g_max,
-                "counters": (self.safeguard, self.bounces, self.collisions)}
+                "counters": (self.safeguard, self.bounces, self.collisions), "hold": self.hold}
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
@@ -223,6 +230,7 @@ class _Gas:
                                            minlength=self.ncell)
         self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
+        self.hold = saved.get("hold", self.hold)  # (none: a checkpoint from before local redraw intervals)
         self._spare = None
 
     def collide_with(self, mean_free_path, omega, z_rot, cfl):
@@ -295,12 +303,12 @@ class _Gas:
         # the redraw conserves each cell's sums: they are the step's sample
         self.cells.reset()
         if self.radial:
-            start = self._resampled(~gone, n)
+            start = self._resampled(~gone, n, dt)
         else:
             start = self._sort(~gone)
             if self.vhs is None:
                 equilibrate(self.x, self.v, self.e, start, self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
-                            self.cells.s2, self._slopes(start, UNWEIGHTED))
+                            self.cells.s2, *self._redraw_plan(start, UNWEIGHTED, dt))
             else:
                 self.collisions += collide(self.v, self.e, start, self.cells.volume, dt, *self.vhs, self.zeta,
                                            self.seed, n, self.sigma_g_max, self.cells.s0, self.cells.s1, self.cells.s2)
@@ -316,27 +324,34 @@ class _Gas:
                                     self.w)
         return gone | gone_z, np.array([0.0, outer, *along])
 
-    def _resampled(self, keep, n) -> np.ndarray:
+    def _resampled(self, keep, n, dt) -> np.ndarray:
         """The particles flagged in ``keep`` in a stable cell order, resampled
         and redrawn (:func:`resampled_redraw`) into the step's cell sums;
         returns the cell starts of the sort."""
         start = self._sort(keep)
         sorted_buffers = tuple(_buffer_of(a) for a in (self.x, self.v, self.e, self.w))
+        slopes, due = self._redraw_plan(start, self.w, dt)
         self.x, self.v, self.e, self.w, _ = resampled_redraw(self.x, self.v, self.e, self.w, start, self.target,
                                                              self.zeta, self.seed, n, self.cells.s0, self.cells.s1,
-                                                             self.cells.s2, out=self._spare,
-                                                             slopes=self._slopes(start, self.w))
+                                                             self.cells.s2, out=self._spare, slopes=slopes, due=due)
         self._spare = sorted_buffers
         return start
 
-    def _slopes(self, start, weights) -> np.ndarray:
-        """The slopes of the mean velocity and temperature the redraw draws
-        about (:func:`limited_slopes`; :data:`NO_SLOPES` under
-        ``profile="uniform"``) of the particles in cell order."""
-        if self.profile == "uniform":
-            return NO_SLOPES
+    def _redraw_plan(self, start, weights, dt) -> tuple:
+        """``(slopes, due)`` of the redraw after a flight of ``dt``, for the
+        particles in cell order: the slopes of the mean velocity and
+        temperature it draws about (:func:`limited_slopes`; :data:`NO_SLOPES`
+        under ``profile="uniform"``) and the cells it redraws
+        (:func:`due_cells`; :data:`EVERY_CELL` under ``redraw="every-step"``),
+        both from one pass of :func:`cell_means`."""
+        if self.profile == "uniform" and self.hold is None:
+            return NO_SLOPES, EVERY_CELL
         count, mean = cell_means(self.v, self.e, weights, start, self.zeta)
-        return limited_slopes(count, mean, self.shape, self.spacing, self.scene.periodic)
+        slopes = (NO_SLOPES if self.profile == "uniform" else
+                  limited_slopes(count, mean, self.shape, self.spacing, self.scene.periodic))
+        due = (EVERY_CELL if self.hold is None else
+               due_cells(self.hold, dt, signal_speeds(mean, self.scene.dim), self.reach))
+        return slopes, due
 
     def _sort(self, keep) -> np.ndarray:
         """Put the particles flagged in ``keep`` (and their weights, in r–z)
@@ -482,7 +497,9 @@ class _Run(RunRecord):
         s = self.settings
         about = (" about MC-limited linear profiles of the velocity and temperature across the cell"
                  if self.gas.profile == "linear" else "")
-        cells = (f"per-cell equilibrium redraw{about} conserving momentum and energy" if self.gas.vhs is None else
+        when = (", each cell at its own Courant step (a multiple of the global step set by the fastest cell)"
+                if self.gas.hold is not None else "")
+        cells = (f"per-cell equilibrium redraw{about} conserving momentum and energy{when}" if self.gas.vhs is None else
                  f"no-time-counter VHS collisions (omega {s['omega']:g}) with Larsen-Borgnakke rotational exchange "
                  f"(Z_rot {s['z_rot']:g}), mean free path {s['mean_free_path']:g} m at the lowest initial density")
         scheme = (f"{'equilibrium DSMC (Pullin)' if self.gas.vhs is None else 'DSMC'}: free flight, specular plane "
