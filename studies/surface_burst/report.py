@@ -76,10 +76,12 @@ def file_label(ds) -> str:
 
 def variant(ds) -> list:
     """The settings of a run that set it apart from the record's other runs at its cell size: a dsmc redraw's
-    ``profile`` other than uniform, and a seed other than 1 (every run of the record before it used seed 1)."""
+    ``profile`` other than uniform, its ``redraw`` schedule other than every step, and a seed other than 1
+    (every run of the record before it used seed 1)."""
     solver = json.loads(ds.attrs["parameters"])["solver"]
     profile = [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
-    return profile + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
+    redraw = [solver["redraw"]] if solver.get("redraw", "every-step") != "every-step" else []
+    return profile + redraw + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
 
 
 def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
