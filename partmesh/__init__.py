@@ -16,30 +16,72 @@ Below it, in layers that import one way only:
 ← :mod:`partmesh.gridref`, :mod:`partmesh.particle` (the methods)
 ← :mod:`partmesh.hybrid` ← ``partmesh`` (dispatch, ensembles, sweeps,
 studies, demo, bench, the command line).
+
+``import partmesh`` loads only the errors; every other name loads its
+module when it is first used (PEP 562, the table ``_LAZY``), so that a
+script or ``partmesh --help`` does not pay for xarray, pandas, SciPy and
+matplotlib before it needs them.
 """
 
-from partmesh.blast_study import run_sensitivity as study_ladder
-from partmesh.blast_study import run_study as study
-from partmesh.cases import registry
-from partmesh.cases.errors import InputError, SolverFailed, Unsupported
-from partmesh.cases.method import Method
-from partmesh.cases.registry import defaults as scene_parameters
-from partmesh.cases.registry import get as scene
-from partmesh.cases.registry import method
-from partmesh.cases.registry import names as scenes
-from partmesh.cases.scene import Scene, WaterScene
-from partmesh.compare.io import read, write
-from partmesh.compare.schema import SchemaError, validate, version
-from partmesh.dispatch import run
-from partmesh.reporting import report
-from partmesh.sweeps import open_sweep, sweep
+import importlib
 
-__version__ = version()
+from partmesh.cases.errors import InputError, SolverFailed, Unsupported
+
+#: name -> "module:attribute" (or "module", for a module), loaded when first used
+_LAZY = {
+    "Method": "partmesh.cases.method:Method",
+    "Scene": "partmesh.cases.scene:Scene",
+    "WaterScene": "partmesh.cases.scene:WaterScene",
+    "SchemaError": "partmesh.compare.schema:SchemaError",
+    "validate": "partmesh.compare.schema:validate",
+    "version": "partmesh.compare.schema:version",
+    "read": "partmesh.compare.io:read",
+    "write": "partmesh.compare.io:write",
+    "registry": "partmesh.cases.registry",
+    "scene": "partmesh.cases.registry:get",
+    "scenes": "partmesh.cases.registry:names",
+    "scene_parameters": "partmesh.cases.registry:defaults",
+    "method": "partmesh.cases.registry:method",
+    "run": "partmesh.dispatch:run",
+    "report": "partmesh.reporting:report",
+    "sweep": "partmesh.sweeps:sweep",
+    "open_sweep": "partmesh.sweeps:open_sweep",
+    "study": "partmesh.blast_study:run_study",
+    "study_ladder": "partmesh.blast_study:run_sensitivity",
+    "bench": "partmesh.bench",
+    "blast_study": "partmesh.blast_study",
+    "cluster": "partmesh.cluster",
+    "demo": "partmesh.demo",
+    "dispatch": "partmesh.dispatch",
+    "ensembles": "partmesh.ensembles",
+    "reporting": "partmesh.reporting",
+    "sweeps": "partmesh.sweeps",
+}
+
+
+def __getattr__(name: str):
+    """A name of ``_LAZY`` (or ``__version__``), imported on its first use and kept."""
+    if name == "__version__":
+        value = __getattr__("version")()
+    elif name in _LAZY:
+        module, _, attribute = _LAZY[name].partition(":")
+        value = importlib.import_module(module)
+        if attribute:
+            value = getattr(value, attribute)
+    else:
+        raise AttributeError(f"module 'partmesh' has no attribute {name!r}")
+    globals()[name] = value  # (looked up once)
+    return value
 
 
 def methods() -> list[str]:
     """Names of the registered methods (entry-point group ``partmesh.methods``)."""
-    return sorted(registry.methods())
+    return sorted(__getattr__("registry").methods())
+
+
+def __dir__() -> list[str]:
+    """The package's names, those not yet loaded among them."""
+    return sorted({*globals(), *_LAZY, "__version__"})
 
 
 __all__ = [

@@ -1,5 +1,7 @@
 """The ``partmesh`` command line (SPEC §6). Every command is a thin wrapper
-around a documented Python function."""
+around a documented Python function, reached through the package (``pm``),
+whose names load on first use: building the parser, and so ``partmesh
+--help``, imports no solver, xarray, SciPy or matplotlib."""
 
 from __future__ import annotations
 
@@ -7,17 +9,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from partmesh.bench import bench
-from partmesh.blast_study import run_sensitivity, run_study
+import partmesh as pm
 from partmesh.cases.errors import InputError, SolverFailed
-from partmesh.cases.registry import defaults, describe, get, names
-from partmesh.compare.io import write
-from partmesh.compare.report import IncompatibleResults
-from partmesh.compare.schema import SchemaError
-from partmesh.demo import demo
-from partmesh.dispatch import run
-from partmesh.reporting import report
-from partmesh.sweeps import sweep
 
 
 def _settings(pairs: list[str]) -> dict:
@@ -33,18 +26,18 @@ def _settings(pairs: list[str]) -> dict:
 
 
 def cmd_cases(args) -> int:
-    for name in names():
-        print(f"{name}: {describe(name)}")
-        print(f"    {get(name).description}")
-        for key, value in defaults(name).items():
+    for name in pm.scenes():
+        print(f"{name}: {pm.registry.describe(name)}")
+        print(f"    {pm.scene(name).description}")
+        for key, value in pm.scene_parameters(name).items():
             print(f"    {key} = {value!r}")
     return 0
 
 
 def cmd_run(args) -> int:
     pairs = _settings(args.set)
-    scene_keys = set(defaults(args.case))
-    scene = get(args.case, **{k: v for k, v in pairs.items() if k in scene_keys})
+    scene_keys = set(pm.scene_parameters(args.case))
+    scene = pm.scene(args.case, **{k: v for k, v in pairs.items() if k in scene_keys})
     settings = {"progress": not args.quiet}
     if args.dx is not None:
         settings["dx"] = args.dx
@@ -64,13 +57,13 @@ def cmd_run(args) -> int:
     settings.update(_settings(args.option))
     settings.update({k: v for k, v in pairs.items() if k not in scene_keys})  # --set of a solver setting (ppc)
     try:
-        ds = run(scene, args.method, **settings)
+        ds = pm.run(scene, args.method, **settings)
     except SolverFailed as failure:
         if failure.partial is not None:
-            write(failure.partial, args.output)
+            pm.write(failure.partial, args.output)
             print(f"partial result written to {args.output}", file=sys.stderr)
         raise
-    write(ds, args.output)
+    pm.write(ds, args.output)
     checkpoint.unlink(missing_ok=True)  # the run is complete
     if not args.quiet:
         print(f"{args.case} with {args.method}: {ds.attrs['n_steps']} steps, {ds.attrs['wall_seconds']:.2f} s "
@@ -85,8 +78,8 @@ def cmd_sweep(args) -> int:
         if getattr(args, key) is not None:
             settings[key] = getattr(args, key)
     dx = [float(v) for v in args.dx.split(",")] if args.dx else [None]
-    records = sweep(args.case, [m.strip() for m in args.methods.split(",")], dx, values, args.output, settings,
-                    scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    records = pm.sweep(args.case, [m.strip() for m in args.methods.split(",")], dx, values, args.output, settings,
+                       scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
     counts = {status: sum(r["status"] == status for r in records) for status in ("ran", "done before", "failed")}
     print(f"{len(records)} runs of {args.case}: {counts['ran']} ran, {counts['done before']} done before, "
           f"{counts['failed']} failed -> {args.output}")
@@ -116,7 +109,7 @@ def cmd_study(args) -> int:
     settings = _settings(args.option)
     options = dict(scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
     if args.ladder:
-        table = run_sensitivity(_per_method(args.ladder, "--ladder"), Path(args.output), args.configuration,
+        table = pm.study_ladder(_per_method(args.ladder, "--ladder"), Path(args.output), args.configuration,
                                 settings, **options)
         print(table[[c for c in ("run", "method", "dx", "wall_seconds", "wall_force_peak_fitted",
                                  "wall_impulse_final") if c in table]].to_string(index=False))
@@ -126,7 +119,7 @@ def cmd_study(args) -> int:
         raise InputError("partmesh study needs --methods (the study) or --ladder (a resolution study).")
     methods = [m.strip() for m in args.methods.split(",")]
     dx = {m: v[0] for m, v in _per_method(args.dx, "--dx", methods).items()}
-    table = run_study(methods, [p.strip() for p in args.parts.split(",")], Path(args.output), dx, settings, **options)
+    table = pm.study(methods, [p.strip() for p in args.parts.split(",")], Path(args.output), dx, settings, **options)
     columns = [c for c in ("configuration", "method", "wall_peak_pressure_fitted", "wall_arrival_time",
                            "wall_force_peak_fitted", "wall_impulse_final", "wall_seconds") if c in table]
     print(table[columns].to_string(index=False))
@@ -135,19 +128,19 @@ def cmd_study(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    table = report(args.runs, reference=args.reference, output=args.output)
+    table = pm.report(args.runs, reference=args.reference, output=args.output)
     print(table.to_string(index=False))
     print(f"report written to {args.output}")
     return 0
 
 
 def cmd_demo(args) -> int:
-    demo(Path(args.output), progress=not args.quiet)
+    pm.demo.demo(Path(args.output), progress=not args.quiet)
     return 0
 
 
 def cmd_bench(args) -> int:
-    bench(args.output, size=args.size, quick=args.quick)
+    pm.bench.bench(args.output, size=args.size, quick=args.quick)
     return 0
 
 
@@ -247,12 +240,17 @@ def main(argv=None) -> int:
         args.option = (args.option or []) + [f"seed={args.seed}"]
     try:
         return args.func(args)
-    except (InputError, SchemaError, IncompatibleResults, FileNotFoundError) as err:
+    except (InputError, FileNotFoundError) as err:
         print(f"partmesh: {err}", file=sys.stderr)
         return 2
     except SolverFailed as err:
         print(f"partmesh: {err}", file=sys.stderr)
         return 3
+    except ValueError as err:  # (a file that is not a result, results that cannot be compared)
+        if not isinstance(err, (pm.SchemaError, pm.reporting.IncompatibleResults)):
+            raise
+        print(f"partmesh: {err}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -12,8 +12,10 @@ import xarray as xr
 from partmesh.cases.errors import InputError
 from partmesh.cases.registry import get
 from partmesh.compare.io import read
+from partmesh.compare.report import IncompatibleResults, scene_of, table
 from partmesh.compare.report import report as compare_report
-from partmesh.compare.report import scene_of, table
+
+__all__ = ["IncompatibleResults", "exact_reference", "report"]
 
 
 def exact_reference(ds):
@@ -39,7 +41,8 @@ def report(results, reference="exact", output: str | Path = "report", names=None
     exact solution), ``None`` (no reference), or a result (file or
     Dataset) of the same scene and grid; written to ``output``
     (:func:`partmesh.compare.report.report`) and returned. ``names`` label
-    the runs (default: the file stems, or method and dx)."""
+    the runs (default: the file stems, or method and dx). Results of
+    different scenes or grids raise :class:`~partmesh.compare.report.IncompatibleResults`."""
     runs = [r if isinstance(r, xr.Dataset) else read(r) for r in results]
     if names is None:
         names = [_name(r, ds) for r, ds in zip(results, runs)]

@@ -2,7 +2,13 @@
 particle ← hybrid ← partmesh, with no import cycle, no import hidden in a
 function body, and every folder of the source tree installed under the one
 namespace ``partmesh``. Read from the source with ``ast``: nothing is
-imported to check it."""
+imported to check it.
+
+Two kinds of import are put off for their weight, and only where listed
+here with the reason: imports inside functions (``LAZY``), and the modules
+a package's ``__init__`` loads when one of its names is first used (its
+PEP 562 table ``_LAZY``; ``ON_FIRST_USE``), which count as imports of that
+package for the layers and the cycle check."""
 
 import ast
 import tomllib
@@ -17,6 +23,28 @@ LAZY = {
     "distributed": "Dask's scheduler and workers start only for sweeps, ensembles and studies (about 1 s to import)",
     "numba": "a Dask worker sets its numba threads before the run's kernels load",
     "jax": "bench reads the device JAX runs on, and JAX loads only when a grid method runs",
+}
+#: package -> {module its ``_LAZY`` table loads on first use: why not at ``import``} (see test_import.py)
+ON_FIRST_USE = {
+    "partmesh": {
+        "partmesh.cases.method": "the method contract and its settings: dataclasses and typing (about 35 ms)",
+        "partmesh.cases.scene": "NumPy (about 0.15 s), for the scene types",
+        "partmesh.cases.registry": "reads the schema's entry-point group, and so xarray and pandas (about 0.5 s)",
+        "partmesh.compare.schema": "xarray and pandas (about 0.5 s)",
+        "partmesh.compare.io": "xarray and pandas, netCDF on first use",
+        "partmesh.dispatch": "xarray (tiling of results), the registry",
+        "partmesh.reporting": "pandas, SciPy (exact solutions) and matplotlib (figures): about 1.5 s",
+        "partmesh.sweeps": "xarray and tqdm; Dask when a sweep starts",
+        "partmesh.blast_study": "pandas, SciPy and matplotlib, for the blast scenes and their figures (about 2 s)",
+        "partmesh.bench": "the methods and metrics (SciPy), for the bench command only",
+        "partmesh.cluster": "the checkpoint machinery and the schema (xarray), for runs on Dask",
+        "partmesh.demo": "reports (matplotlib), for the demo command only",
+        "partmesh.ensembles": "the registry and the checkpoint machinery (xarray), for runs on Dask",
+    },
+    "partmesh.compare": {
+        "partmesh.compare.schema": "xarray and pandas, which partmesh.compare.checks (InputError) does not need",
+        "partmesh.compare.io": "xarray and pandas, netCDF on first use",
+    },
 }
 
 
@@ -42,10 +70,21 @@ def _layer(module: str) -> tuple[str, int]:
     raise KeyError(module)
 
 
+def _lazy_table(module: str) -> tuple[dict[str, str], int]:
+    """A package's PEP 562 table ``_LAZY`` (name -> "module:attribute") and its line; empty if none."""
+    path = MODULES[module]
+    for node in ast.parse(path.read_text(), str(path)).body:
+        if isinstance(node, ast.Assign) and [getattr(t, "id", None) for t in node.targets] == ["_LAZY"]:
+            return ast.literal_eval(node.value), node.lineno
+    return {}, 0
+
+
 def _imports(module: str) -> list[tuple[str, bool, int]]:
-    """(imported name, whether inside a function, line) of every import of ``module``."""
+    """(imported name, whether inside a function, line) of every import of ``module``, the modules
+    of its ``_LAZY`` table among them (as imports at module level)."""
     path = MODULES[module]
     tree = ast.parse(path.read_text(), str(path))
+    table, table_line = _lazy_table(module)
     in_function = {id(node) for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
                    for node in ast.walk(f) if isinstance(node, (ast.Import, ast.ImportFrom))}
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
@@ -62,6 +101,7 @@ def _imports(module: str) -> list[tuple[str, bool, int]]:
         else:
             continue
         out += [(name, id(node) in in_function, node.lineno) for name in names]
+    out += [(name, False, table_line) for name in sorted({v.partition(":")[0] for v in table.values()})]
     return out
 
 
@@ -115,9 +155,19 @@ def test_imports_inside_functions_are_only_the_lazy_heavy_ones():
     assert hidden == []
 
 
+def test_modules_loaded_on_first_use_are_only_the_listed_ones():
+    tables = {m: {v.partition(":")[0] for v in _lazy_table(m)[0].values()} for m in MODULES}
+    assert {m: t for m, t in tables.items() if t} == {m: set(listed) for m, listed in ON_FIRST_USE.items()}
+    for package, table in ON_FIRST_USE.items():
+        assert all(reason for reason in table.values()), package
+        assert set(table) <= set(MODULES), package  # (a table names modules of the tree)
+
+
 def test_the_checker_sees_the_imports_it_judges():
     # (an empty graph would pass every test above)
     graph = _graph()
     assert "partmesh.compare.schema" in graph["partmesh.cases.history"]
     assert "partmesh.cases.march" in graph["partmesh.particle.march"]
     assert {"partmesh.gridref.euler.method", "partmesh.particle.sph.method"} <= set(graph)
+    assert {"partmesh.dispatch", "partmesh.blast_study"} <= graph["partmesh"]  # (through its _LAZY table)
+    assert _lazy_table("partmesh")[0]["run"] == "partmesh.dispatch:run"
