@@ -30,31 +30,42 @@ class DeviceLoop:
     physical. The probes and forces of every step are kept on the device
     and returned with the stretch."""
 
-    def __init__(self, step: Callable, n_probes: int, n_forces: int, n_records: int):
+    def __init__(self, step: Callable, n_probes: int, n_forces: int, n_records: int, per_step: int = 1,
+                 halts: bool = False):
         self.step, self.n_records = step, int(n_records)
         self.n_probes, self.n_forces = n_probes, n_forces
+        self.per_step, self.halts = int(per_step), halts
         self._compiled = None
 
     def _loop(self, state, t, dt_cfl, t_out, n_max, dt_floor):
-        step, n_records = self.step, self.n_records
-        records = (jnp.zeros(n_records, t.dtype), jnp.zeros((n_records, self.n_probes), t.dtype),
-                   jnp.zeros((n_records, self.n_forces), t.dtype))
+        step, n_records, R = self.step, self.n_records, self.per_step
+        if R == 1:
+            records = (jnp.zeros(n_records, t.dtype), jnp.zeros((n_records, self.n_probes), t.dtype),
+                       jnp.zeros((n_records, self.n_forces), t.dtype))
+        else:
+            records = (jnp.zeros((n_records, R), t.dtype), jnp.zeros((n_records, R, self.n_probes), t.dtype),
+                       jnp.zeros((n_records, R, self.n_forces), t.dtype))
         landing = t_out * (1.0 - LANDING)
 
         def going(carry):
-            _, t, dt_cfl, n, _, _ = carry
-            return (t < landing) & (n < n_max) & jnp.isfinite(dt_cfl) & (dt_cfl >= dt_floor)
+            _, t, dt_cfl, n, _, _, halted = carry
+            return (t < landing) & (n < n_max) & jnp.isfinite(dt_cfl) & (dt_cfl >= dt_floor) & ~halted
 
         def one_step(carry):
-            state, t, dt_cfl, n, _, (times, probes, forces) = carry
+            state, t, dt_cfl, n, _, (times, probes, forces), _ = carry
             dt = jnp.minimum(dt_cfl, t_out - t)
-            state, dt_next, p, f = step(state, t, dt)
+            state, dt_next, p, f, *halted = step(state, t, dt)
+            halted = halted[0] if self.halts else jnp.zeros((), bool)
             t_new = jnp.where(t + dt >= landing, t_out, t + dt)
+            if R > 1:  # the records' times: the ends of the step's R equal parts, the last where the step lands
+                t_new = jnp.concatenate([t + dt * (jnp.arange(1, R) / R), t_new[None]])
             records = (times.at[n].set(t_new), probes.at[n].set(p), forces.at[n].set(f))
-            return state, t_new, dt_next, n + 1, dt, records
+            t_new = t_new if R == 1 else t_new[-1]
+            return (state, jnp.where(halted, t, t_new), dt_next, n + jnp.where(halted, 0, 1), dt, records, halted)
 
         zero = jnp.zeros((), t.dtype)
-        return jax.lax.while_loop(going, one_step, (state, t, dt_cfl, jnp.zeros((), jnp.int32), zero, records))
+        return jax.lax.while_loop(going, one_step, (state, t, dt_cfl, jnp.zeros((), jnp.int32), zero, records,
+                                                    jnp.zeros((), bool)))
 
     def compile(self, state) -> None:
         """Compile the loop for the shapes of ``state`` (float64 times), and
@@ -69,21 +80,26 @@ class DeviceLoop:
             self.compile(state)
         f = lambda x: jnp.asarray(x, jnp.float64)  # noqa: E731
         start = (state, f(t), f(dt_cfl), f(t_out))
-        reached, t1, dt_next, n, dt_tried, records = self._compiled(
+        reached, t1, dt_next, n, dt_tried, records, _ = self._compiled(
             *start, jnp.asarray(min(n_max, self.n_records), jnp.int32), f(dt_floor))
         n, dt_next, dt_tried = int(n), float(dt_next), float(dt_tried)
         if not np.isfinite(dt_next):
             # the last step turned the state non-physical: the steps before it, made again from the
             # stretch's start (the same steps, the same state), give the last good state
             n -= 1
-            reached, t1, _, _, _, _ = self._compiled(*start, jnp.asarray(n, jnp.int32), f(dt_floor))
-        times, probes, forces = (np.asarray(a)[:n] for a in records)  # (sliced here: a device slice compiles per length)
-        return Stretch(reached, float(t1), dt_next, dt_tried, times, probes, forces)
+            reached, t1, *_ = self._compiled(*start, jnp.asarray(n, jnp.int32), f(dt_floor))
+        # (sliced here: a device slice compiles per length)
+        times, probes, forces = (np.asarray(a)[:n].reshape((n * self.per_step, *a.shape[2:]) if self.per_step > 1
+                                                           else (n, *a.shape[1:])) for a in records)
+        return Stretch(reached, float(t1), dt_next, dt_tried, times, probes, forces, steps=n)
 
 
-def device_loop(step: Callable, n_probes: int, n_forces: int, n_records: int = 1024) -> DeviceLoop:
+def device_loop(step: Callable, n_probes: int, n_forces: int, n_records: int = 1024, per_step: int = 1,
+                halts: bool = False) -> DeviceLoop:
     """The compiled stretch loop of ``step``, whose probes and side forces
-    are ``n_probes`` and ``n_forces`` numbers (:class:`DeviceLoop`)."""
-    return DeviceLoop(step, n_probes, n_forces, n_records)
+    are ``n_probes`` and ``n_forces`` numbers, ``per_step`` records of them a
+    step (:class:`DeviceLoop`); ``halts``: ``step`` returns a fifth value,
+    True where it did not step (the loop stops there, its time unchanged)."""
+    return DeviceLoop(step, n_probes, n_forces, n_records, per_step, halts)
 
 

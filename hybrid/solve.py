@@ -56,7 +56,7 @@ from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march, single_steps
 from partmesh.compare.regrid import to_output_grid
-from partmesh.gridref.euler.solve import inflow_states, initial_state, scheme_for
+from partmesh.gridref.euler.setup import inflow_states, initial_state, scheme_for
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.step import Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid

@@ -8,42 +8,19 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
-from partmesh.cases.checks import check_initial_state, check_obstacles
-from partmesh.cases.errors import InputError
+from partmesh.cases.checks import check_obstacles
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
-from partmesh.cases.scene import Inflow
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.immersed import immersed_boundary
 from partmesh.gridref.euler.method import FVSettings
-from partmesh.gridref.euler.state import conservative, primitive
-from partmesh.gridref.euler.step import FLOOR, Scheme, Stepper
-from partmesh.gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
+from partmesh.gridref.euler.refined import solve_refined
+from partmesh.gridref.euler.setup import failure_sentence, inflow_states, initial_state, scheme_for
+from partmesh.gridref.euler.state import primitive
+from partmesh.gridref.euler.step import FLOOR, Stepper
+from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from partmesh.gridref.jax_setup import configure_jax
 from partmesh.gridref.revolution import GEOMETRIES, revolved
-
-
-def _primitive_state(scene, rho, u, v, p):
-    return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
-
-
-def inflow_states(scene, t):
-    """Primitive inflow state of every side at the traced time ``t`` (zeros
-    elsewhere), for the compiled loop."""
-    rows = []
-    for side in scene.sides:
-        bc = scene.boundaries[side]
-        if isinstance(bc, Inflow):
-            try:
-                state = _primitive_state(scene, *bc.state(t, xp=jnp))
-            except jax.errors.JAXTypeError as error:
-                raise InputError(f"the inflow state of side {side} of scene {scene.name} cannot be evaluated inside "
-                                 "the compiled time loop: write it with the array namespace it is given "
-                                 f"(state(t, xp)) ({type(error).__name__}).") from None
-            rows.append(jnp.stack([jnp.asarray(a, dtype=float) for a in state]))
-        else:
-            rows.append(jnp.zeros(scene.dim + 2))
-    return jnp.stack(rows)
 
 
 def _fields(W, gamma, names, solid):
@@ -61,23 +38,6 @@ def _fields(W, gamma, names, solid):
     return out
 
 
-def initial_state(scene, grid, fluid=None):
-    """The scene's initial state on ``grid`` as conservative variables
-    (checked: positive density and pressure in the ``fluid`` cells)."""
-    X, Y = mesh(grid)
-    dx = float(grid.step[0])
-    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
-    check_initial_state(scene, rho, p, X, Y, fluid=fluid)
-    return conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), scene.gamma)
-
-
-def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
-    """The MUSCL–Hancock scheme of ``scene`` on ``grid`` (its boundary kinds per side)."""
-    kinds = tuple("inflow" if isinstance(scene.boundaries[s], Inflow) else scene.boundaries[s] for s in scene.sides)
-    return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=kinds, limiter=limiter, riemann=riemann, cfl=cfl,
-                  radial=GEOMETRIES[scene.geometry])
-
-
 def solve(scene, settings: FVSettings):
     """Run ``scene`` with the unsplit MUSCL–Hancock finite-volume scheme
     and checked ``settings`` (:class:`~partmesh.gridref.euler.method.FVSettings`).
@@ -86,8 +46,12 @@ def solve(scene, settings: FVSettings):
     (with the partial result) if the state turns non-physical or the run is
     interrupted. The state is saved to ``settings.checkpoint`` every
     ``checkpoint_every`` seconds and on SIGINT or SIGTERM; ``resume``
-    continues from it (:mod:`partmesh.cases.checkpoint`).
+    continues from it (:mod:`partmesh.cases.checkpoint`). With
+    ``settings.levels`` > 1 the run is refined adaptively
+    (:mod:`partmesh.gridref.euler.refined`).
     """
+    if settings.levels > 1:
+        return solve_refined(scene, settings)
     configure_jax()
     dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl
     grid = solver_grid(scene.domain, dx)
@@ -116,7 +80,7 @@ def solve(scene, settings: FVSettings):
         if failed:  # the state the failed step of dt made
             (U, _), _, _, _ = stepper.one_step(state, t, dt)
             t = t + dt
-        return _diagnose(U, gamma, grid, t, step, dt, None if ib is None else ib.fluid)
+        return failure_sentence(U, gamma, grid, t, step, dt, None if ib is None else ib.fluid)
 
     def saved_state(state, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
@@ -179,18 +143,3 @@ class _Run(RunRecord):
         attrs = {"regrid": how, "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass),
                  "vacuum_floor_energy": float(energy)}
         return fields, solid_out, scheme, int(np.prod(self.grid.shape)), attrs
-
-
-def _diagnose(U, gamma, grid, t, n_steps, dt, fluid=None):
-    """One sentence: when, where and what went wrong."""
-    W = [np.asarray(a) for a in primitive(U, gamma)]
-    fluid = np.ones(W[0].shape, bool) if fluid is None else fluid
-    for k, name in ((0, "density"), (-1, "pressure")):
-        bad = fluid & ~(W[k] > 0)
-        if np.any(bad):
-            where = np.unravel_index(np.flatnonzero(bad)[0], bad.shape)
-            coords = [c[i] for c, i in zip(cell_centres(grid), where[::-1])]
-            at = ", ".join(f"{a} = {c:.6g} m" for a, c in zip("xy", coords))
-            return (f"fv became unstable at t = {t:.6g} s (step {n_steps}): {name} {W[k][where]:.3g} "
-                    f"is not positive at {at}.")
-    return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."

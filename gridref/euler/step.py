@@ -286,6 +286,32 @@ def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed):
     return divergence, forces
 
 
+def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable, allowed, retries: int):
+    """``(out, added)``: the step ``attempt(allowed) -> (out, ok)`` (``out =
+    (U_new, dt_next, ...)``, ``dt_next`` NaN where ``U_new`` is not
+    physical) taken with the cells ``allowed`` second order, then redone up
+    to ``retries`` times with ``allowed_after(ok, U_new)`` (fewer cells
+    second order: the a-posteriori positivity fallback); if it is still not
+    physical, ``floored(U_new) -> (U, dt_next, cells, mass, energy)`` (the
+    vacuum floors, :func:`vacuum_floored`) as the last resort. ``added``
+    counts the cells the floors changed and the mass and energy they added
+    (zeros when none did)."""
+    out, ok = attempt(allowed)
+
+    def retried(carry):
+        out, ok, k = carry
+        out, ok = attempt(allowed_after(ok, out[0]))
+        return out, ok, k + 1
+
+    out, _, _ = jax.lax.while_loop(lambda c: ~jnp.isfinite(c[0][1]) & (c[2] < retries), retried, (out, ok, 0))
+
+    def with_floors(out):
+        U_new, dt_next, cells, mass, energy = floored(out[0])
+        return (U_new, dt_next, *out[2:]), jnp.stack([cells.astype(float), mass, energy])
+
+    return jax.lax.cond(jnp.isfinite(out[1]), lambda out: (out, jnp.zeros(3)), with_floors, out)
+
+
 class Stepper:
     """The MUSCL–Hancock step of one run, and stretches of it on the device.
 
@@ -353,22 +379,12 @@ class Stepper:
                           for d in range(scheme.dim)]
                 return update(U, fluxes, Wh, dt, gate), ok
 
-            def retried(carry):
-                out, ok, k = carry
-                out, ok = attempt(staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma), gate)(
-                    ok, out[0]))
-                return out, ok, k + 1
+            def allowed_after(ok, U_new):
+                return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma), gate)(ok, U_new)
 
-            out, ok = attempt(jnp.ones(Wg[0].shape, bool)[tuple(slice(1, -1) for _ in range(scheme.dim))])
-            out, _, _ = jax.lax.while_loop(lambda c: ~jnp.isfinite(c[0][1]) & (c[2] < self.RETRIES), retried,
-                                           (out, ok, 0))
-
-            def with_floors(out):
-                U_new, dt_next, cells, mass, energy = staged(floored, gate)(out[0])
-                return (U_new, dt_next, *out[2:]), jnp.stack([cells.astype(float), mass, energy])
-
-            (U_new, dt_next, forces, probes), added = jax.lax.cond(
-                jnp.isfinite(out[1]), lambda out: (out, jnp.zeros(3)), with_floors, out)
+            first = jnp.ones(Wg[0].shape, bool)[tuple(slice(1, -1) for _ in range(scheme.dim))]
+            (U_new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after,
+                                                                     staged(floored, gate), first, self.RETRIES)
             return (U_new, floors + added), dt_next, probes, forces
 
         self.step = step

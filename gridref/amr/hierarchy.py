@@ -1,0 +1,316 @@
+"""The state of a block-structured hierarchy and the operations between its
+levels (Berger & Colella 1989, J. Comput. Phys. 82, 64), as pure functions
+of arrays on the device.
+
+Every level is stored whole, block-major (:mod:`partmesh.gridref.amr.layout`),
+and only its active blocks are advanced: a static-capacity list of their
+ids, padded with the id one past the last block, which gathers clamp and
+scatters drop. Around a level's active blocks lies its *halo*, the blocks
+one block away: before each step of the level they are filled from the
+coarser level, interpolated in time, so the active blocks read their
+ghost cells from storage whatever lies next to them.
+
+After a coarser level's step its finer level takes two steps of half the
+size; then the fine blocks' means replace the coarse cells they cover
+(restriction), and every coarse cell next to the fine region has its
+flux through the coarse–fine face replaced by the fine level's flux summed
+over its two steps (refluxing), so the hierarchy conserves mass, momentum
+and energy to round-off. A regrid (:func:`regridded`) sets every level's
+blocks from the error estimate of the level below, with a buffer of blocks,
+proper nesting, and the new blocks filled by conservative prolongation.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from partmesh.gridref.amr import blockmaps
+from partmesh.gridref.amr.layout import Layout, coords_of, flat_id
+from partmesh.gridref.amr.sensor import child_maxima, lohner, variation
+from partmesh.gridref.amr.transfer import prolonged, restricted
+from partmesh.gridref.amr.windows import block_origins, gathered, sources
+
+
+class Hierarchy(NamedTuple):
+    """The state of every level.
+
+    ``U[l]``: the conservative variables of level ``l`` (a tuple of
+    block-major arrays); ``old[l]`` (levels with a finer one): the state of
+    its active blocks when its step under way began; ``flux[l][d]`` (levels
+    with a finer one): Δt times the flux through every face normal to axis
+    ``d`` of its active blocks in its last step; ``register[l][d]``
+    (levels with a coarser one): the sum over the current pair of steps of
+    Δt times the flux through each active block's two boundary faces normal
+    to ``d``; ``active[l]``, ``halo[l]``: ``(ids, count)``; ``maps[l]``:
+    the active blocks as a boolean map; ``floors``: cells the vacuum floors
+    changed and the mass and energy they added; ``updates``: cell updates
+    made; ``need``: the capacities the last regrid asked for, per level
+    (active, halo), when it found a list too short; ``dt_limit``: the
+    largest step of level 0 the next may take, however stable
+    (:data:`GROWTH` times the last)."""
+
+    U: tuple
+    old: tuple
+    flux: tuple
+    register: tuple
+    active: tuple
+    halo: tuple
+    maps: tuple
+    floors: jnp.ndarray
+    updates: jnp.ndarray
+    need: jnp.ndarray
+    dt_limit: jnp.ndarray
+
+
+#: how much a step of level 0 may exceed the one before (AMReX's ``change_max``): a finer level takes
+#: 2^l steps of the size set at the start of a step of level 0, so a wave that speeds up inside it (a
+#: Riemann problem's first steps) must not find the steps far beyond its own stable one
+GROWTH = 1.1
+
+
+def _pow2(n: int) -> int:
+    return 1 << max(int(np.ceil(np.log2(max(n, 1)))), 0)
+
+
+def capacity_for(count: int) -> int:
+    """The capacity of a block list for ``count`` blocks: the next power of
+    two at least a quarter above it (the list grows rarely)."""
+    return _pow2(int(np.ceil(1.25 * count)) + 1)
+
+
+class Levels:
+    """The operations of one layout's hierarchy (``n_vars`` conserved
+    variables): block gathers and scatters, transfers between levels,
+    refluxing and regridding. ``admissible(U) -> bool array``: the states a
+    prolongation may make (elsewhere it copies the parent);
+    ``sensed(U) -> tuple of arrays``: the variables the error estimator
+    reads; ``refine``, ``derefine``: the thresholds of Löhner's estimate (a
+    level-``l`` cell above ``refine`` asks for level ``l + 1``; one above
+    ``derefine`` keeps it) and ``gradient`` that of the relative variation
+    (kept above ``gradient · derefine / refine``)
+    (:mod:`partmesh.gridref.amr.sensor`); ``buffer``: blocks added around
+    the flagged ones."""
+
+    def __init__(self, layout: Layout, n_vars: int, admissible: Callable, sensed: Callable, refine: float,
+                 derefine: float, gradient: float, buffer: int):
+        self.layout, self.n_vars = layout, n_vars
+        self.admissible, self.sensed = admissible, sensed
+        self.refine, self.derefine, self.gradient, self.buffer = refine, derefine, gradient, buffer
+
+    # --- storage -----------------------------------------------------------------------------------------
+    def empty(self, level: int):
+        """A level's storage, zero."""
+        return tuple(jnp.zeros((self.layout.n_blocks(level), *self.layout.block_shape)) for _ in range(self.n_vars))
+
+    def blocks_of(self, U, ids):
+        """The blocks ``ids`` of a level's storage ``U`` (clamped ids)."""
+        return tuple(a[ids] for a in U)
+
+    @staticmethod
+    def with_blocks(U, ids, values):
+        """``U`` with the blocks ``ids`` set to ``values`` (ids past the end dropped)."""
+        return tuple(a.at[ids].set(v, mode="drop") for a, v in zip(U, values))
+
+    def windows(self, U, level: int, ids, ghosts: int, imposed=None):
+        """Every block ``ids`` of ``level`` with ``ghosts`` cells around it, read
+        from ``U`` and the domain's boundary rules."""
+        src = sources(self.layout, level, block_origins(self.layout, level, ids, -ghosts),
+                      self.layout.block + 2 * ghosts)
+        return gathered(U, src, imposed)
+
+    # --- between levels --------------------------------------------------------------------------------
+    def _footprint_cells(self, fine: int, ids):
+        """Flat storage indices, on the coarser level, of the cells under the
+        fine blocks ``ids`` (one array per block, laid out like a half block)."""
+        lay, half = self.layout, self.layout.block // 2
+        coords = coords_of(ids, lay.blocks(fine), jnp)
+        cells = [c * half for c in coords]  # the footprint's first coarse cell per axis
+        return _cell_index(lay, fine - 1, cells, half)
+
+    def restricted_into(self, U_coarse, U_fine, fine: int, ids):
+        """``U_coarse`` with the cells under the fine blocks ``ids`` set to
+        the means of their children."""
+        index = self._footprint_cells(fine, ids)
+        means = [jax.vmap(restricted)(a[ids]) for a in U_fine]
+        return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
+
+    def prolonged_blocks(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
+        """The fine blocks ``ids`` prolonged from the coarser level, whose
+        state is ``(1 − θ) old + θ U`` (``old`` None: ``U`` alone)."""
+        lay, half = self.layout, self.layout.block // 2
+        coords = coords_of(ids, lay.blocks(fine), jnp)
+        src = sources(lay, fine - 1, tuple(c * half - 1 for c in coords), half + 2)
+        window = gathered(U_coarse, src, imposed)
+        if old_coarse is not None:
+            before = gathered(old_coarse, src, imposed)
+            window = tuple((1.0 - theta) * b + theta * a for a, b in zip(window, before))
+        return jax.vmap(lambda w: prolonged(w, self.admissible))(window)
+
+    def refluxed(self, U_coarse, flux_coarse, register, maps_fine, fine: int, ids, count):
+        """``U_coarse`` with every coarse cell next to a fine block of ``ids``
+        (across a face whose fine neighbour is not active) corrected by the
+        fine fluxes summed over the pair of fine steps, in place of its own
+        (Berger & Colella 1989, §3.4)."""
+        lay, half = self.layout, self.layout.block // 2
+        nb_f, cells_c = lay.blocks(fine), lay.cells(fine - 1)
+        dx_c = lay.spacing(fine - 1)
+        coords = coords_of(ids, nb_f, jnp)
+        valid = jnp.arange(ids.shape[0]) < count
+        lanes = jnp.arange(half)
+        for d in range(lay.dim):
+            for side in (0, 1):
+                neighbour = list(coords)
+                step = 1 if side else -1
+                n_d = nb_f[d]
+                beyond = coords[d] + step
+                inside = (beyond >= 0) & (beyond < n_d)
+                if lay.periodic[d]:
+                    beyond, inside = jnp.mod(beyond, n_d), jnp.ones_like(inside)
+                neighbour[d] = jnp.clip(beyond, 0, n_d - 1)
+                open_ = valid & inside & ~maps_fine.ravel()[flat_id(neighbour, nb_f)]
+                # the coarse face and the coarse cell beyond it, along d
+                face = (coords[d] + side) * half
+                cell = jnp.mod(face if side else face - 1, cells_c[d])
+                face = jnp.mod(face, cells_c[d])
+                fine_sum = [r[:, side] for r in register[d]]  # (n[, B]) per variable
+                if lay.dim == 2:
+                    fine_sum = [0.5 * (f[:, 0::2] + f[:, 1::2]) for f in fine_sum]  # two fine faces per coarse face
+                    other = 1 - d
+                    along = coords[other][:, None] * half + lanes[None, :]
+                    at = [None, None]
+                    at[d], at[other] = jnp.broadcast_to(face[:, None], along.shape), along
+                    coarse_flux = _face_values(lay, fine - 1, flux_coarse[d], d, at)
+                    target = [None, None]
+                    target[d], target[other] = jnp.broadcast_to(cell[:, None], along.shape), along
+                    index = _cell_index_at(lay, fine - 1, target)
+                    mask = open_[:, None]
+                else:
+                    coarse_flux = _face_values(lay, fine - 1, flux_coarse[d], d, [face])
+                    index = _cell_index_at(lay, fine - 1, [cell])
+                    mask = open_
+                sign = (1.0 if side else -1.0) / dx_c[d]
+                index = jnp.where(mask, index, U_coarse[0].size)
+                U_coarse = tuple(u.ravel().at[index].add(sign * (f - c), mode="drop").reshape(u.shape)
+                                 for u, f, c in zip(U_coarse, fine_sum, coarse_flux))
+        return U_coarse
+
+    # --- regridding ------------------------------------------------------------------------------------
+    def flags(self, U, level: int, ids, count, imposed=None):
+        """``(refine, keep)``: block maps of ``level + 1`` whose footprint on
+        ``level`` holds a cell whose estimates pass ``refine`` or
+        ``gradient`` (to keep: those times ``derefine / refine``), read on
+        the active blocks ``ids``."""
+        lay = self.layout
+        window = self.windows(U, level, ids, 1, imposed)
+        jumps, slopes = 0.0, 0.0
+        for q in self.sensed(window):
+            jumps = jnp.maximum(jumps, jax.vmap(lohner)(q))
+            slopes = jnp.maximum(slopes, jax.vmap(variation)(q))
+        # the estimate relative to its threshold: above 1 asks for refinement
+        estimate = jnp.maximum(jumps / self.refine, slopes / self.gradient)
+        children = jax.vmap(child_maxima)(estimate)  # (n, 2[, 2]) laid out ([cy,] cx)
+        valid = (jnp.arange(ids.shape[0]) < count).reshape((-1,) + (1,) * lay.dim)
+        coords = coords_of(ids, lay.blocks(level), jnp)
+        offsets = jnp.arange(2)
+        if lay.dim == 1:
+            child = (2 * coords[0][:, None] + offsets[None, :],)
+        else:
+            child = (2 * coords[0][:, None, None] + offsets[None, None, :],
+                     2 * coords[1][:, None, None] + offsets[None, :, None])
+        nb = lay.blocks(level + 1)
+        index = jnp.where(valid, flat_id(child, nb), int(np.prod(nb)))
+        shape = nb[::-1]
+        out = []
+        for threshold in (1.0, self.derefine / self.refine):
+            hit = jnp.zeros(int(np.prod(nb)), bool).at[index].set(children > threshold, mode="drop")
+            out.append(hit.reshape(shape))
+        return tuple(out)
+
+    def regridded(self, H: Hierarchy, imposed=None, forced: tuple | None = None,
+                  fill: bool = True) -> tuple[Hierarchy, jnp.ndarray]:
+        """``(H', short)``: every level's blocks set anew from the error
+        estimates of the level below (``forced[l]``: a block map of level
+        ``l`` that must be active, or None), the new blocks prolonged from
+        the level below (unless not ``fill``: the caller sets them);
+        ``short`` is True (and ``H'`` is ``H`` with ``need`` set) when a
+        block list is too short for them."""
+        lay, L = self.layout, self.layout.levels
+        maps = [H.maps[0]]
+        for level in range(L - 1):
+            ids, count = H.active[level]
+            high, low = self.flags(H.U[level], level, ids, count, imposed)
+            want = (blockmaps.dilated(high, lay.periodic, self.buffer)
+                    | (H.maps[level + 1] & blockmaps.dilated(low, lay.periodic, self.buffer)))
+            if forced is not None and forced[level + 1] is not None:
+                want = want | forced[level + 1]
+            maps.append(want)
+        for level in range(L - 1, 1, -1):  # proper nesting, finest first
+            maps[level - 1] = maps[level - 1] | blockmaps.parents(blockmaps.dilated(maps[level], lay.periodic, 2))
+        active, halo, need = [H.active[0]], [H.halo[0]], [H.need[0]]
+        short = jnp.zeros((), bool)
+        for level in range(1, L):
+            cap, cap_halo = H.active[level][0].shape[0], H.halo[level][0].shape[0]
+            a = blockmaps.listed(maps[level], cap)
+            h = blockmaps.listed(blockmaps.dilated(maps[level], lay.periodic) & ~maps[level], cap_halo)
+            active.append(a)
+            halo.append(h)
+            need.append(jnp.stack([a[1], h[1]]))
+            short = short | (a[1] > cap) | (h[1] > cap_halo)
+        need = jnp.stack(need)
+
+        def renewed(H):
+            U = list(H.U)
+            for level in range(1, L if fill else 1):
+                fresh = maps[level] & ~H.maps[level]
+                ids, _ = blockmaps.listed(fresh, active[level][0].shape[0])
+                U[level] = self.with_blocks(U[level], ids, self.prolonged_blocks(U[level - 1], None, 1.0, level, ids,
+                                                                                 imposed))
+            return H._replace(U=tuple(U), active=tuple(active), halo=tuple(halo), maps=tuple(maps), need=need)
+
+        H = jax.lax.cond(short, lambda H: H._replace(need=need), renewed, H)
+        return H, short
+
+
+def _cell_index(lay: Layout, level: int, first, n: int):
+    """Flat storage indices of the ``n``-cell squares starting at the global
+    cells ``first`` (per axis, x first, each (m,)) of ``level``: (m, n[, n])."""
+    lanes = jnp.arange(n)
+    if lay.dim == 1:
+        return _cell_index_at(lay, level, [first[0][:, None] + lanes[None, :]])
+    x = first[0][:, None, None] + lanes[None, None, :]
+    y = first[1][:, None, None] + lanes[None, :, None]
+    return _cell_index_at(lay, level, [x, y])
+
+
+def _cell_index_at(lay: Layout, level: int, at):
+    """The flat storage index of the cell at global indices ``at`` (per axis, x first) of ``level``."""
+    B = lay.block
+    if lay.dim == 1:
+        return at[0]
+    nbx = lay.blocks(level)[0]
+    x, y = at
+    return ((y // B) * nbx + x // B) * (B * B) + (y % B) * B + x % B
+
+
+def _face_values(lay: Layout, level: int, flux_d, d: int, at):
+    """Per variable, the stored flux through the face normal to axis ``d``
+    at global face indices ``at`` (the face's index along ``d``, the cell's
+    along the others), read from the block holding the cell on its high
+    side (its low face)."""
+    B = lay.block
+    if lay.dim == 1:
+        face = at[0]
+        index = (face // B) * (B + 1) + face % B
+        return [f.ravel()[index] for f in flux_d]
+    x, y = at
+    nbx = lay.blocks(level)[0]
+    block = (y // B) * nbx + x // B
+    if d == 0:  # x faces: (B rows, B + 1 faces)
+        index = block * (B * (B + 1)) + (y % B) * (B + 1) + x % B
+    else:  # y faces: (B + 1 faces, B columns)
+        index = block * ((B + 1) * B) + (y % B) * B + x % B
+    return [f.ravel()[index] for f in flux_d]

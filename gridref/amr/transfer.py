@@ -1,0 +1,91 @@
+"""Moving a state between levels of ratio 2, conserving it.
+
+Restriction (fine → coarse): a coarse cell takes the mean of its ``2^dim``
+children, so a level's total is unchanged (Berger & Colella 1989, §3.3).
+
+Prolongation (coarse → fine): each child takes its parent's value plus the
+parent's limited slope times the offset of its centre, ±¼ of the parent's
+cell along every axis: the children's mean is the parent's value, so the
+prolonged state holds the coarse one's totals; the slopes are limited with
+the monotonized central limiter (van Leer 1977), so no child leaves the
+range of its parent's neighbours (conservative limited linear
+interpolation, as AMReX's ``cell_cons_interp``). A parent whose children
+would not all be admissible (``admissible``: for a gas, positive density
+and pressure) passes its own value to every child instead.
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from partmesh.gridref.euler.reconstruct import monotonized_central
+
+
+def _crop(a, axis, lo, hi):
+    index = [slice(None)] * a.ndim
+    index[axis] = slice(lo, a.shape[axis] - hi)
+    return a[tuple(index)]
+
+
+def _doubled(a):
+    """Every cell of ``a`` repeated twice along every axis."""
+    for axis in range(a.ndim):
+        a = jnp.repeat(a, 2, axis=axis)
+    return a
+
+
+def _offsets(n: int, axis: int, ndim: int):
+    """The children's offsets ±¼ along ``axis`` of an array of ``n`` children there."""
+    shape = [1] * ndim
+    shape[axis] = n
+    return jnp.tile(jnp.array([-0.25, 0.25]), n // 2).reshape(shape)
+
+
+def prolonged(window, admissible=None):
+    """The children of the interior cells of a coarse ``window`` (a tuple
+    over variables of arrays with one ghost cell on every side, laid out
+    ``([y,] x)``): arrays twice the interior's size along every axis."""
+    ndim = window[0].ndim
+    inner = [_crop_all(a) for a in window]
+    slopes = []
+    for a in window:
+        per_axis = []
+        for axis in range(ndim):
+            others = _crop_others(a, axis)
+            per_axis.append(monotonized_central(_crop(others, axis, 1, 1) - _crop(others, axis, 0, 2),
+                                                _crop(others, axis, 2, 0) - _crop(others, axis, 1, 1)))
+        slopes.append(per_axis)
+    n = 2 * inner[0].shape[0]
+    linear = [_doubled(c) + sum(_doubled(s) * _offsets(n, axis, ndim) for axis, s in enumerate(per_axis))
+              for c, per_axis in zip(inner, slopes)]
+    if admissible is None:
+        return tuple(linear)
+    ok = admissible(tuple(linear))
+    for axis in range(ndim):  # a parent's children all linear, or all its own value
+        shape = list(ok.shape)
+        shape[axis:axis + 1] = [shape[axis] // 2, 2]
+        ok = jnp.all(ok.reshape(shape), axis=axis + 1)
+    ok = _doubled(ok)
+    return tuple(jnp.where(ok, f, _doubled(c)) for f, c in zip(linear, inner))
+
+
+def _crop_all(a):
+    for axis in range(a.ndim):
+        a = _crop(a, axis, 1, 1)
+    return a
+
+
+def _crop_others(a, axis):
+    for other in range(a.ndim):
+        if other != axis:
+            a = _crop(a, other, 1, 1)
+    return a
+
+
+def restricted(block):
+    """The means of the ``2^dim`` children of every coarse cell over a fine
+    ``block`` (an array laid out ``([y,] x)``): half its size along every axis."""
+    shape = []
+    for n in block.shape:
+        shape += [n // 2, 2]
+    return jnp.mean(block.reshape(shape), axis=tuple(range(1, 2 * block.ndim, 2)))

@@ -1,0 +1,72 @@
+"""What a run of a scene on the finite-volume grid starts from: its initial
+state, the inflow state of its sides at any time, its scheme; and the
+sentence a run that fails ends with."""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from partmesh.cases.checks import check_initial_state
+from partmesh.cases.errors import InputError
+from partmesh.cases.scene import Inflow
+from partmesh.gridref.euler.method import boundary_kinds
+from partmesh.gridref.euler.state import conservative, primitive
+from partmesh.gridref.euler.step import Scheme
+from partmesh.gridref.grid import cell_centres, mesh
+from partmesh.gridref.revolution import GEOMETRIES
+
+
+def _primitive_state(scene, rho, u, v, p):
+    return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
+
+
+def inflow_states(scene, t):
+    """Primitive inflow state of every side at the traced time ``t`` (zeros
+    elsewhere), for the compiled loop."""
+    rows = []
+    for side in scene.sides:
+        bc = scene.boundaries[side]
+        if isinstance(bc, Inflow):
+            try:
+                state = _primitive_state(scene, *bc.state(t, xp=jnp))
+            except jax.errors.JAXTypeError as error:
+                raise InputError(f"the inflow state of side {side} of scene {scene.name} cannot be evaluated inside "
+                                 "the compiled time loop: write it with the array namespace it is given "
+                                 f"(state(t, xp)) ({type(error).__name__}).") from None
+            rows.append(jnp.stack([jnp.asarray(a, dtype=float) for a in state]))
+        else:
+            rows.append(jnp.zeros(scene.dim + 2))
+    return jnp.stack(rows)
+
+
+def initial_state(scene, grid, fluid=None):
+    """The scene's initial state on ``grid`` as conservative variables
+    (checked: positive density and pressure in the ``fluid`` cells)."""
+    X, Y = mesh(grid)
+    dx = float(grid.step[0])
+    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
+    check_initial_state(scene, rho, p, X, Y, fluid=fluid)
+    return conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), scene.gamma)
+
+
+def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
+    """The MUSCL–Hancock scheme of ``scene`` on ``grid`` (its boundary kinds per side)."""
+    return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=boundary_kinds(scene), limiter=limiter, riemann=riemann,
+                  cfl=cfl, radial=GEOMETRIES[scene.geometry])
+
+
+def failure_sentence(U, gamma, grid, t, n_steps, dt, fluid=None):
+    """One sentence: when, where and what went wrong."""
+    W = [np.asarray(a) for a in primitive(U, gamma)]
+    fluid = np.ones(W[0].shape, bool) if fluid is None else fluid
+    for k, name in ((0, "density"), (-1, "pressure")):
+        bad = fluid & ~(W[k] > 0)
+        if np.any(bad):
+            where = np.unravel_index(np.flatnonzero(bad)[0], bad.shape)
+            coords = [c[i] for c, i in zip(cell_centres(grid), where[::-1])]
+            at = ", ".join(f"{a} = {c:.6g} m" for a, c in zip("xy", coords))
+            return (f"fv became unstable at t = {t:.6g} s (step {n_steps}): {name} {W[k][where]:.3g} "
+                    f"is not positive at {at}.")
+    return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."
