@@ -26,6 +26,8 @@ def _run_command(case, method, dx, output, extra=()):
 # each run goes on for seconds after its first checkpoint (0.3 s of wall time), so the signal finds it running
 @pytest.mark.parametrize("case, method, dx, extra, settings, stop", [
     ("sod", "fv", 1e-4, (), {}, signal.SIGTERM),
+    # a hierarchy: its block lists, maps, registers and step limit are the state
+    ("sod", "fv", 1e-4, ("--set", "levels=3"), {"levels": 3}, signal.SIGINT),
     ("sod", "dsmc", 2e-3, ("--set", "ppc=60", "--seed", "4"), {"ppc": 60, "seed": 4}, signal.SIGINT),
     # a hot light driver sets the step; the cold gas ahead is redrawn at its own intervals, held in the checkpoint
     ("sod", "dsmc", 2e-3, ("--set", "ppc=60", "--seed", "4", "--set", "redraw=local", "--set", "left_rho=0.15",

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
+from partmesh.gridref.amr.transfer import repeated
+
 
 def dilated(active, periodic, radius: int = 1):
     """``active`` grown by ``radius`` blocks along every axis, diagonals
@@ -43,9 +45,7 @@ def parents(active):
 
 def children(active):
     """The blocks of the finer level whose parent is active."""
-    for axis in range(active.ndim):
-        active = jnp.repeat(active, 2, axis=axis)
-    return active
+    return repeated(active, 2)
 
 
 def listed(active, capacity: int):

@@ -51,7 +51,8 @@ class Hierarchy(NamedTuple):
     made; ``need``: the capacities the last regrid asked for, per level
     (active, halo), when it found a list too short; ``dt_limit``: the
     largest step of level 0 the next may take, however stable
-    (:data:`GROWTH` times the last)."""
+    (:data:`GROWTH` times the last); ``peak``: the most active blocks each
+    level has held, and (last) the most all levels have held at once."""
 
     U: tuple
     old: tuple
@@ -64,6 +65,7 @@ class Hierarchy(NamedTuple):
     updates: jnp.ndarray
     need: jnp.ndarray
     dt_limit: jnp.ndarray
+    peak: jnp.ndarray
 
 
 #: how much a step of level 0 may exceed the one before (AMReX's ``change_max``): a finer level takes
@@ -72,14 +74,21 @@ class Hierarchy(NamedTuple):
 GROWTH = 1.1
 
 
+def with_level(levels: tuple, level: int, value) -> tuple:
+    """The tuple over levels ``levels`` with entry ``level`` replaced by ``value``."""
+    return levels[:level] + (value,) + levels[level + 1:]
+
+
 def _pow2(n: int) -> int:
     return 1 << max(int(np.ceil(np.log2(max(n, 1)))), 0)
 
 
-def capacity_for(count: int) -> int:
-    """The capacity of a block list for ``count`` blocks: the next power of
-    two at least a quarter above it (the list grows rarely)."""
-    return _pow2(int(np.ceil(1.25 * count)) + 1)
+def capacity_for(count: int, most: int) -> int:
+    """The capacity of a block list for ``count`` of a level's ``most``
+    blocks: the next power of two at least a quarter above it (the list
+    grows rarely; the blocks beyond ``count`` cost nothing, their chunks are
+    not advanced), at most ``most``."""
+    return min(_pow2(int(np.ceil(1.25 * count)) + 1), most)
 
 
 class Levels:
@@ -186,17 +195,25 @@ class Levels:
                     coarse_flux = _face_values(lay, fine - 1, flux_coarse[d], d, at)
                     target = [None, None]
                     target[d], target[other] = jnp.broadcast_to(cell[:, None], along.shape), along
-                    index = _cell_index_at(lay, fine - 1, target)
+                    index = lay.cell_index(fine - 1, target)
                     mask = open_[:, None]
                 else:
                     coarse_flux = _face_values(lay, fine - 1, flux_coarse[d], d, [face])
-                    index = _cell_index_at(lay, fine - 1, [cell])
+                    index = lay.cell_index(fine - 1, [cell])
                     mask = open_
                 sign = (1.0 if side else -1.0) / dx_c[d]
                 index = jnp.where(mask, index, U_coarse[0].size)
                 U_coarse = tuple(u.ravel().at[index].add(sign * (f - c), mode="drop").reshape(u.shape)
                                  for u, f, c in zip(U_coarse, fine_sum, coarse_flux))
         return U_coarse
+
+    def halo_filled(self, H: Hierarchy, fine: int, theta, imposed=None) -> Hierarchy:
+        """``H`` with the halo blocks of level ``fine`` prolonged from the
+        coarser level at ``(1 − θ) old + θ U`` (θ = 1: ``U`` alone)."""
+        ids, _ = H.halo[fine]
+        old = None if isinstance(theta, float) and theta == 1.0 else H.old[fine - 1]
+        values = self.prolonged_blocks(H.U[fine - 1], old, theta, fine, ids, imposed)
+        return H._replace(U=with_level(H.U, fine, self.with_blocks(H.U[fine], ids, values)))
 
     # --- regridding ------------------------------------------------------------------------------------
     def flags(self, U, level: int, ids, count, imposed=None):
@@ -239,6 +256,8 @@ class Levels:
         ``short`` is True (and ``H'`` is ``H`` with ``need`` set) when a
         block list is too short for them."""
         lay, L = self.layout, self.layout.levels
+        for level in range(1, L - 1):  # the estimator reads one ghost layer: the halos, filled now
+            H = self.halo_filled(H, level, 1.0, imposed)
         maps = [H.maps[0]]
         for level in range(L - 1):
             ids, count = H.active[level]
@@ -269,7 +288,10 @@ class Levels:
                 ids, _ = blockmaps.listed(fresh, active[level][0].shape[0])
                 U[level] = self.with_blocks(U[level], ids, self.prolonged_blocks(U[level - 1], None, 1.0, level, ids,
                                                                                  imposed))
-            return H._replace(U=tuple(U), active=tuple(active), halo=tuple(halo), maps=tuple(maps), need=need)
+            counts = jnp.stack([a[1] for a in active])
+            peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
+            return H._replace(U=tuple(U), active=tuple(active), halo=tuple(halo), maps=tuple(maps), need=need,
+                              peak=peak)
 
         H = jax.lax.cond(short, lambda H: H._replace(need=need), renewed, H)
         return H, short
@@ -280,20 +302,10 @@ def _cell_index(lay: Layout, level: int, first, n: int):
     cells ``first`` (per axis, x first, each (m,)) of ``level``: (m, n[, n])."""
     lanes = jnp.arange(n)
     if lay.dim == 1:
-        return _cell_index_at(lay, level, [first[0][:, None] + lanes[None, :]])
+        return lay.cell_index(level, [first[0][:, None] + lanes[None, :]])
     x = first[0][:, None, None] + lanes[None, None, :]
     y = first[1][:, None, None] + lanes[None, :, None]
-    return _cell_index_at(lay, level, [x, y])
-
-
-def _cell_index_at(lay: Layout, level: int, at):
-    """The flat storage index of the cell at global indices ``at`` (per axis, x first) of ``level``."""
-    B = lay.block
-    if lay.dim == 1:
-        return at[0]
-    nbx = lay.blocks(level)[0]
-    x, y = at
-    return ((y // B) * nbx + x // B) * (B * B) + (y % B) * B + x % B
+    return lay.cell_index(level, [x, y])
 
 
 def _face_values(lay: Layout, level: int, flux_d, d: int, at):

@@ -70,6 +70,15 @@ class Layout:
         """A block's cells in the field layout ``([y,] x)``."""
         return (self.block,) * self.dim
 
+    def cell_index(self, level: int, at):
+        """The flat index, into ``level``'s block-major storage raveled, of
+        the cells at global indices ``at`` (per axis, x first; numpy or JAX
+        integer arrays)."""
+        if self.dim == 1:
+            return at[0]
+        B, (x, y) = self.block, at
+        return ((y // B) * self.blocks(level)[0] + x // B) * (B * B) + (y % B) * B + x % B
+
     def cell_centres(self, level: int) -> list[np.ndarray]:
         """Cell-centre coordinates along each axis of ``level`` (x first)."""
         h = self.spacing(level)

@@ -21,8 +21,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from partmesh.compare.regrid import linear_weights
-from partmesh.gridref.amr.hierarchy import Hierarchy, Levels
+from jax_cfd.base import grids
+
+from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, with_level
+from partmesh.gridref.grid import bilinear_stencil
 
 
 class Subcycler:
@@ -66,13 +68,13 @@ class Subcycler:
             records = (probes.at[n].set(self.probe(H, theta)), sides.at[n].set(sum(forces)))
             return H, records, n + 1, dt_next
         fine = level + 1
-        H = H._replace(register=_set(H.register, fine, jax.tree_util.tree_map(jnp.zeros_like, H.register[fine])))
+        H = H._replace(register=with_level(H.register, fine, jax.tree_util.tree_map(jnp.zeros_like, H.register[fine])))
         half = 0.5 * dt
 
         def substep(k, carry):
             H, records, n, dt_next = carry
             t_k = t + k * half
-            H = self._halo_filled(H, fine, 0.5 * k, self.imposed(t_k))
+            H = self.levels.halo_filled(H, fine, 0.5 * k, self.imposed(t_k))
             return self._go(fine, H, t_k, half, clocks, forces, records, n, dt_next)
 
         H, records, n, dt_next = jax.lax.fori_loop(0, 2, substep, (H, records, n, dt_next))
@@ -80,18 +82,7 @@ class Subcycler:
         levels = self.levels
         U = levels.restricted_into(H.U[level], H.U[fine], fine, ids)
         U = levels.refluxed(U, H.flux[level], H.register[fine], H.maps[fine], fine, ids, count)
-        return H._replace(U=_set(H.U, level, U)), records, n, dt_next
-
-    def _halo_filled(self, H, fine, theta, imposed):
-        """``H`` with the halo blocks of level ``fine`` prolonged from the
-        coarser level at ``(1 − θ) old + θ U``."""
-        ids, _ = H.halo[fine]
-        values = self.levels.prolonged_blocks(H.U[fine - 1], H.old[fine - 1], theta, fine, ids, imposed)
-        return H._replace(U=_set(H.U, fine, self.levels.with_blocks(H.U[fine], ids, values)))
-
-
-def _set(levels: tuple, level: int, value) -> tuple:
-    return levels[:level] + (value,) + levels[level + 1:]
+        return H._replace(U=with_level(H.U, level, U)), records, n, dt_next
 
 
 def probe_stencils(levels: Levels, points) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
@@ -100,24 +91,12 @@ def probe_stencils(levels: Levels, points) -> list[tuple[np.ndarray, np.ndarray,
     the blocks holding them (n, 2^dim); points beyond the outermost cell
     centres take the edge values (as on a uniform grid)."""
     lay = levels.layout
-    points = np.atleast_2d(np.asarray(points, float))
     out = []
     for level in range(lay.levels):
-        centres, h = lay.cell_centres(level), lay.spacing(level)
-        lower, upper, frac = zip(*(linear_weights(c, s, points[:, d], lay.periodic[d])
-                                   for d, (c, s) in enumerate(zip(centres, h))))
-        B = lay.block
-        if lay.dim == 1:
-            cells = [np.stack([lower[0], upper[0]], axis=1)]
-            w = np.stack([1 - frac[0], frac[0]], axis=1)
-            index, block = cells[0], cells[0] // B
-        else:
-            (i, j), (i1, j1), (fx, fy) = lower, upper, frac
-            x = np.stack([i, i1, i, i1], axis=1)
-            y = np.stack([j, j, j1, j1], axis=1)
-            w = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)
-            nbx = lay.blocks(level)[0]
-            block = (y // B) * nbx + x // B
-            index = block * (B * B) + (y % B) * B + x % B
-        out.append((index.astype(np.int64), w, block.astype(np.int64)))
+        cells, h = lay.cells(level), lay.spacing(level)
+        grid = grids.Grid(cells, domain=tuple((o, o + n * s) for o, n, s in zip(lay.origin, cells, h)))
+        index, weights = bilinear_stencil(grid, points, lay.periodic)
+        at = (index,) if lay.dim == 1 else np.divmod(index, cells[0])[::-1]
+        index = lay.cell_index(level, at)
+        out.append((index, weights, index // lay.block ** lay.dim))
     return out

@@ -27,11 +27,15 @@ def _crop(a, axis, lo, hi):
     return a[tuple(index)]
 
 
-def _doubled(a):
-    """Every cell of ``a`` repeated twice along every axis."""
+def repeated(a, k: int):
+    """Every cell of ``a`` (a numpy or JAX array) repeated ``k`` times along every axis."""
     for axis in range(a.ndim):
-        a = jnp.repeat(a, 2, axis=axis)
+        a = a.repeat(k, axis=axis)
     return a
+
+
+def _doubled(a):
+    return repeated(a, 2)
 
 
 def _offsets(n: int, axis: int, ndim: int):

@@ -64,8 +64,7 @@ def sources(layout: Layout, level: int, origins, size: int) -> Sources:
     """The :class:`Sources` of windows of ``size`` cells a side on
     ``level`` whose lower corners are at the global cell indices
     ``origins`` (per axis, x first, each of shape (n,))."""
-    cells, B = layout.cells(level), layout.block
-    nb = layout.blocks(level)
+    cells = layout.cells(level)
     offsets = jnp.arange(size)
     rules = [_axis_rule(o[:, None] + offsets, cells[d], d, layout.kinds) for d, o in enumerate(origins)]
     if layout.dim == 1:
@@ -75,8 +74,7 @@ def sources(layout: Layout, level: int, origins, size: int) -> Sources:
     (mx, fx, ix, ox), (my, fy, iy, oy) = rules
     mx, fx, ix, ox = (a[:, None, :] for a in (mx, fx, ix, ox))  # (n, 1, size): along x, the last axis
     my, fy, iy, oy = (a[:, :, None] for a in (my, fy, iy, oy))  # (n, size, 1)
-    block = (my // B) * nb[0] + mx // B
-    index = block * (B * B) + (my % B) * B + mx % B
+    index = layout.cell_index(level, (mx, my))
     if "inflow" not in layout.kinds:
         return Sources(index, (fx, fy), None, ox | oy)
     from_y = iy >= 0

@@ -16,13 +16,15 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from partmesh.gridref.amr.hierarchy import Hierarchy, Levels
+from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, with_level
 from partmesh.gridref.amr.layout import coords_of
-from partmesh.gridref.amr.windows import block_origins, sources
+from partmesh.gridref.amr.tiling import rows_for, tiled, windowed
+from partmesh.gridref.amr.windows import Sources, block_origins, gathered, sources
 from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
-from partmesh.gridref.euler.step import (Scheme, _dilated, face_flux, flux_update, half_step, slopes_of, stable_dt,
+from partmesh.gridref.euler.step import (Scheme, face_flux, flux_update, half_step, slopes_of, stable_dt,
                                          vacuum_floored, with_fallbacks)
+from partmesh.gridref.grid import cropped
 from partmesh.gridref.staging import staged
 
 
@@ -40,11 +42,6 @@ def sensed(gamma):
         W = primitive(U, gamma)
         return W[0], W[-1]
     return variables
-
-
-def _vmapped(kernel, *static):
-    """``kernel`` over a leading axis of blocks (``static``: arguments shared by all)."""
-    return jax.vmap(lambda *a: kernel(*a, *static))
 
 
 class LevelStepper:
@@ -66,29 +63,54 @@ class LevelStepper:
     def step(self, H: Hierarchy, level: int, dt, imposed):
         lay, scheme, gamma, levels = self.layout, self.schemes[level], self.gamma, self.levels
         ids, count = H.active[level]
-        cap = ids.shape[0]
-        valid = jnp.arange(cap) < count
-        fluid = jnp.broadcast_to(valid.reshape((cap,) + (1,) * lay.dim), (cap, *lay.block_shape))
+        n, B = ids.shape[0], lay.block
+        K = chunk_for(n)
+        rows, h = rows_for(K), B + 2 * N_GHOST
+        valid = jnp.arange(n) < count
+        fluid = jnp.broadcast_to(valid.reshape((n,) + (1,) * lay.dim), (n, *lay.block_shape))
         gate = jnp.isfinite(dt)
         U0 = levels.blocks_of(H.U[level], ids)
-        Wg = staged(lambda U, imposed: primitive(levels.windows(U, level, ids, N_GHOST, imposed), gamma), gate)(
-            H.U[level], imposed)
-        slopes = staged(_vmapped(slopes_of, scheme), gate)(Wg)
+        ring = tuple(b + 2 for b in lay.block_shape)  # a block and one ghost layer: where ``ok`` lives
+        faces = [_face_shape(B, d, lay.dim) for d in range(lay.dim)]
+
+        def chunk(c, allowed):
+            """The step of the ``K`` blocks of chunk ``c``, tiled side by side."""
+            src = self._tiled_sources(level, jax.lax.dynamic_slice(ids, (c * K,), (K,)), N_GHOST, rows)
+            Ug = staged(lambda U, imposed: gathered(U, src, imposed), gate)(H.U[level], imposed)
+            Wg = staged(lambda Ug: primitive(Ug, gamma), gate)(Ug)
+            slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
+            allowed = staged(lambda a: _tiled_ring(a, rows), gate)(allowed)
+            Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed), gate)(Wg, slopes, allowed)
+            fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
+                      for d in range(lay.dim)]
+
+            def updated(Ug, F, Wh, ok):
+                inner = tuple(cropped(u, scheme.axes, N_GHOST) for u in Ug)
+                U_new = flux_update(inner, F, dt, scheme, Wh)[0]
+                return (tuple(windowed(u, rows, K, h, lay.block_shape) for u in U_new),
+                        [tuple(windowed(f, rows, K, h, faces[d]) for f in Fd) for d, Fd in enumerate(F)],
+                        windowed(ok, rows, K, h, ring))
+
+            return staged(updated, gate)(Ug, fluxes, Wh, ok)
 
         def cfl_dt(U):
             return stable_dt(U, gamma, scheme.dx, scheme.cfl, fluid)
 
         def attempt(allowed):
-            Wh, ok = staged(lambda Wg, s, allowed: jax.vmap(lambda w, sl, al: half_step(w, sl, dt, scheme, al))(
-                Wg, s, allowed), gate)(Wg, slopes, allowed)
-            fluxes = [staged(lambda Wh, s, ok, d=d: jax.vmap(lambda w, sl, o: face_flux(w, sl, o, d, scheme))(
-                Wh, s, ok), gate)(Wh, slopes[d], ok) for d in range(lay.dim)]
-            U_new = staged(lambda U, F, Wh: jax.vmap(lambda u, f, w: flux_update(u, f, dt, scheme, w)[0])(U, F, Wh),
-                           gate)(U0, fluxes, Wh)
+            pools = (tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0),
+                     [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)],
+                     jnp.zeros((n, *ring), bool))
+
+            def body(c, pools):
+                done = chunk(c, jax.lax.dynamic_slice_in_dim(allowed, c * K, K))
+                return jax.tree_util.tree_map(lambda pool, part: jax.lax.dynamic_update_slice_in_dim(
+                    pool, part, c * K, 0), pools, done)
+
+            U_new, fluxes, ok = jax.lax.fori_loop(0, (count + K - 1) // K, body, pools)
             return (U_new, staged(cfl_dt, gate)(U_new), fluxes), ok
 
         def allowed_after(ok, U_new):
-            return staged(lambda ok, U_new: self._second_order_allowed(ok, U_new, H, level, ids, fluid), gate)(
+            return staged(lambda ok, U_new: self._second_order_allowed(ok, U_new, level, ids, fluid), gate)(
                 ok, U_new)
 
         def floored(U):
@@ -96,16 +118,27 @@ class LevelStepper:
             volume = float(np.prod(scheme.dx))
             return U, cfl_dt(U), cells, jnp.sum(mass) * volume, jnp.sum(energy) * volume
 
-        first = jnp.ones((cap,) + tuple(n + 2 for n in lay.block_shape), bool)
-        (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate), first,
-                                                         self.RETRIES)
+        (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
+                                                         jnp.ones((n, *ring), bool), self.RETRIES)
         H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)
         forces = self._side_forces(H, level, ids, valid, fluxes)
         H = H._replace(floors=H.floors + added, updates=H.updates + count * np.prod(lay.block_shape))
         return H, dt_next, forces
 
-    def _second_order_allowed(self, ok, U_new, H, level, ids, fluid):
-        """``ok`` (each block and one ghost layer) without the cells at or
+    def _tiled_sources(self, level, ids, ghosts, rows) -> Sources:
+        """The sources of the windows of the blocks ``ids`` with ``ghosts``
+        layers, laid side by side (:mod:`partmesh.gridref.amr.tiling`)."""
+        lay = self.layout
+        src = sources(lay, level, block_origins(lay, level, ids, -ghosts), lay.block + 2 * ghosts)
+        shape = src.index.shape
+
+        def tile(a):
+            return None if a is None else tiled(jnp.broadcast_to(a, shape), rows)
+
+        return Sources(tile(src.index), tuple(tile(f) for f in src.flips), tile(src.inflow), tile(src.outside))
+
+    def _second_order_allowed(self, ok, U_new, level, ids, fluid):
+        """``ok`` (every block and one ghost layer) without the cells at or
         next to a cell whose new state is not physical, in this block or a
         neighbour (as :func:`~partmesh.gridref.euler.step.second_order_allowed`
         on a whole grid: no cell beyond a side of the domain counts)."""
@@ -115,9 +148,9 @@ class LevelStepper:
         stored = jnp.zeros((lay.n_blocks(level), *lay.block_shape), bool).at[ids].set(bad, mode="drop")
         src = sources(lay, level, block_origins(lay, level, ids, -2), lay.block + 4)
         around = stored.ravel()[src.index] & ~src.outside
-        grown = jax.vmap(_dilated)(around)
-        inner = (slice(None),) + (slice(1, -1),) * lay.dim
-        return ok & ~grown[inner]
+        for axis in range(1, around.ndim):  # grown by one cell along every axis, diagonals included
+            around = around | jnp.roll(around, 1, axis) | jnp.roll(around, -1, axis)
+        return ok & ~around[(slice(None),) + (slice(1, -1),) * lay.dim]
 
     def _advanced(self, H, level, ids, U0, U_new, fluxes, dt):
         """``H`` with the level's blocks set to ``U_new``; for a level with a
@@ -125,16 +158,16 @@ class LevelStepper:
         Δt F through its blocks' boundary faces added to its register."""
         levels, L = self.levels, self.layout.levels
         U = levels.with_blocks(H.U[level], ids, U_new)
-        H = H._replace(U=_set(H.U, level, U))
+        H = H._replace(U=with_level(H.U, level, U))
         if level < L - 1:
-            H = H._replace(old=_set(H.old, level, levels.with_blocks(H.old[level], ids, U0)),
-                           flux=_set(H.flux, level, tuple(levels.with_blocks(H.flux[level][d], ids,
+            H = H._replace(old=with_level(H.old, level, levels.with_blocks(H.old[level], ids, U0)),
+                           flux=with_level(H.flux, level, tuple(levels.with_blocks(H.flux[level][d], ids,
                                                                              [dt * f for f in F])
                                                           for d, F in enumerate(fluxes))))
         if level > 0:
             register = tuple(tuple(r + dt * _boundary_faces(f, d, self.layout.dim) for r, f in zip(reg, F))
                              for d, (reg, F) in enumerate(zip(H.register[level], fluxes)))
-            H = H._replace(register=_set(H.register, level, register))
+            H = H._replace(register=with_level(H.register, level, register))
         return H
 
     def _side_forces(self, H, level, ids, valid, fluxes):
@@ -151,7 +184,7 @@ class LevelStepper:
         forces = []
         for d in range(lay.dim):
             momentum = _boundary_faces(fluxes[d][1 + d], d, lay.dim)  # (n, 2[, B])
-            edge = _boundary_cells(open_, d, lay.dim)
+            edge = _boundary_faces(open_, d, lay.dim)
             area = 1.0 if lay.dim == 1 else dx[1 - d]
             for side, at_side in ((0, coords[d] == 0), (1, coords[d] == nb[d] - 1)):
                 m = momentum[:, side]
@@ -160,8 +193,31 @@ class LevelStepper:
         return jnp.stack(forces)
 
 
-def _set(levels: tuple, level: int, value) -> tuple:
-    return levels[:level] + (value,) + levels[level + 1:]
+#: blocks advanced together (tiled side by side): enough cells for the kernels to run at a whole grid's
+#: speed, few enough that a level with few active blocks does little more than they need
+CHUNK = 32
+
+
+def chunk_for(n: int) -> int:
+    """The blocks of a chunk for a list of ``n`` blocks: the largest divisor
+    of ``n`` up to :data:`CHUNK`."""
+    return max(d for d in range(1, min(n, CHUNK) + 1) if n % d == 0)
+
+
+def _tiled_ring(a, rows: int):
+    """Per-block masks of a block and one ghost layer (k, B+2[, B+2]) laid
+    out as the cells one layer into tiled windows of two ghost layers
+    (the layout of the slopes and the predictor)."""
+    width = [(0, 0)] + [(0, 2)] * (a.ndim - 1)
+    t = tiled(jnp.pad(a, width), rows)
+    return t[tuple(slice(0, n - 2) for n in t.shape)]
+
+
+def _face_shape(B: int, d: int, dim: int) -> tuple[int, ...]:
+    """A block's faces normal to axis ``d``, laid out ``([y,] x)``."""
+    if dim == 1:
+        return (B + 1,)
+    return (B, B + 1) if d == 0 else (B + 1, B)
 
 
 def _boundary_faces(F, d: int, dim: int):
@@ -172,12 +228,6 @@ def _boundary_faces(F, d: int, dim: int):
     if d == 0:
         return jnp.stack([F[:, :, 0], F[:, :, -1]], axis=1)
     return jnp.stack([F[:, 0, :], F[:, -1, :]], axis=1)
-
-
-def _boundary_cells(mask, d: int, dim: int):
-    """A batch of blocks' cell masks at their two boundary rows normal to
-    axis ``d``: (n, 2[, B])."""
-    return _boundary_faces(mask, d, dim)
 
 
 def _covered(maps_fine, ids, lay, level):

@@ -32,10 +32,10 @@ class FVSettings(Settings):
     limiter: str = setting("mc", one_of(LIMITER_NAMES), "slope limiter")
     riemann: str = setting("hllc", one_of(RIEMANN_NAMES), "Riemann solver")
     levels: int = setting(1, at_least(1, MAX_LEVELS), "refinement levels of ratio 2, dx the finest (1: a uniform grid)")
-    refine: float = setting(0.8, within(0.0, 1.0, lo_open=True),
-                            "error estimate above which a cell asks for the next finer level, in (0, 1]")
-    derefine: float = setting(0.2, within(0.0, 1.0, lo_open=True),
-                              "error estimate above which a refined region is kept, in (0, refine]")
+    refine: float = setting(0.8, within(0.0, 1.0, lo_open=True, hi_open=True),
+                            "Lohner estimate above which a cell asks for the next finer level, in (0, 1)")
+    derefine: float = setting(0.2, within(0.0, 1.0, lo_open=True, hi_open=True),
+                              "Lohner estimate above which a refined region is kept, in (0, refine]")
     gradient: float = setting(0.01, within(0.0, 1.0, lo_open=True),
                               "relative variation across a cell above which it asks for the next finer level, "
                               "in (0, 1]")
@@ -68,11 +68,12 @@ def memory(scene, settings: FVSettings) -> Memory:
 
 def refined_cell_bytes(variables: int, dim: int) -> float:
     """Bytes per finest cell of a hierarchy: every level is stored whole
-    (the finest its state; the coarser ones, a third of the finest cells
-    or less, their state, the state their step began from and Δt F through
-    every face), and one step's arrays for the active blocks with their
+    (the finest its state; the coarser ones, 1/(2^dim − 1) of the finest
+    cells or less, their state, the state their step began from and Δt F
+    through every face), and one step's arrays for the active blocks with their
     ghosts, assumed to hold a quarter of the finest cells."""
-    return 8.0 * variables * (1.0 + (2.0 + dim) / 3.0 + 0.25 * 15 * 1.6)
+    coarser = 1.0 / (2 ** dim - 1)  # the coarser levels' cells over the finest's, at most
+    return 8.0 * variables * (1.0 + (2.0 + dim) * coarser + 0.25 * 15 * 1.6)
 
 
 METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve",

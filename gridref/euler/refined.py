@@ -9,8 +9,8 @@ the next regrid, at the start of every step of level 0. The step of level
 level advanced by the MUSCL–Hancock step of its active blocks
 (:mod:`partmesh.gridref.euler.blocks`); whole stretches of such steps run
 in one compiled loop (:mod:`partmesh.gridref.device_loop`), which stops
-early where a block list outgrows its capacity: the host then doubles it
-and compiles the loop anew.
+early where a block list outgrows its capacity: the host then grows it to the
+next power of two a quarter above what it needs and compiles the loop anew.
 
 Results are written on the scene's output grid from the composite state:
 every output cell from the finest level that covers it.
@@ -30,9 +30,10 @@ from partmesh.cases.checks import check_initial_state
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
 from partmesh.compare.regrid import to_output_grid
-from partmesh.gridref.amr.hierarchy import GROWTH, Hierarchy, Levels, capacity_for
+from partmesh.gridref.amr.hierarchy import GROWTH, Hierarchy, Levels, capacity_for, with_level
 from partmesh.gridref.amr.layout import Layout, coords_of, layout_for
 from partmesh.gridref.amr.subcycle import Subcycler, probe_stencils
+from partmesh.gridref.amr.transfer import repeated
 from partmesh.gridref.device_loop import device_loop
 from partmesh.gridref.euler.blocks import LevelStepper, admissible, sensed
 from partmesh.gridref.euler.method import FVSettings, boundary_kinds
@@ -104,9 +105,11 @@ class Refined:
 
     def first_dt(self, H: Hierarchy) -> float:
         """The first step of level 0: its stable step shrunk by 2^(levels−1),
-        so the finest level's first steps are no longer than the uniform
-        grid's first (the waves of an initial jump speed up from it at once),
-        growing by :data:`GROWTH` a step from there."""
+        so that it lasts no longer than one stable step of the finest level
+        (the uniform grid's first step), each of its 2^(levels−1) finest
+        steps that much shorter: the waves an initial jump starts speed up at
+        once, and the finest level's steps are fixed for the whole step of
+        level 0. From there the steps grow by :data:`GROWTH` at most."""
         return float(jax.jit(self.stable_dt)(H)) / (1 << (self.layout.levels - 1))
 
     def stable_dt(self, H: Hierarchy):
@@ -131,21 +134,22 @@ class Refined:
         lay, L = self.layout, self.layout.levels
         full = [lay.n_blocks(level) for level in range(L)]
         H = self._empty(full, full)
-        H = H._replace(U=_set(H.U, 0, self._initial_blocks(0, np.arange(full[0]))))
+        H = H._replace(U=with_level(H.U, 0, self._initial_blocks(0, np.arange(full[0]))))
         regrid = jax.jit(lambda H: self.levels.regridded(H, self.imposed(t0), self.forced, fill=False)[0])
         for _ in range(L - 1):
             H = regrid(H)
             for level in range(1, L):
                 ids, count = (np.asarray(a) for a in H.active[level])
                 ids = ids[:int(count)]
-                H = H._replace(U=_set(H.U, level, self.levels.with_blocks(H.U[level], jnp.asarray(ids),
+                H = H._replace(U=with_level(H.U, level, self.levels.with_blocks(H.U[level], jnp.asarray(ids),
                                                                         self._initial_blocks(level, ids))))
         restrict = jax.jit(self.levels.restricted_into, static_argnums=2)
         for level in range(L - 1, 0, -1):
-            H = H._replace(U=_set(H.U, level - 1, restrict(H.U[level - 1], H.U[level], level, H.active[level][0])))
+            coarser = restrict(H.U[level - 1], H.U[level], level, H.active[level][0])
+            H = H._replace(U=with_level(H.U, level - 1, coarser))
         counts = np.asarray(H.need)
-        return with_capacity(H, [full[0]] + [capacity_for(int(c)) for c in counts[1:, 0]],
-                             [1] + [capacity_for(int(c)) for c in counts[1:, 1]], lay)
+        return with_capacity(H, [full[0]] + [capacity_for(int(c), n) for c, n in zip(counts[1:, 0], full[1:])],
+                             [1] + [capacity_for(int(c), n) for c, n in zip(counts[1:, 1], full[1:])], lay)
 
     def _initial_blocks(self, level: int, ids: np.ndarray):
         """The scene's initial conservative state on the blocks ``ids`` of ``level``."""
@@ -179,12 +183,8 @@ class Refined:
                  for level in range(1, L)]
         H = Hierarchy(U=U, old=old, flux=flux, register=(), active=tuple(active), halo=tuple(halo), maps=maps,
                       floors=jnp.zeros(3), updates=jnp.zeros(()), need=jnp.zeros((L, 2), jnp.int32),
-                      dt_limit=jnp.asarray(jnp.inf))
+                      dt_limit=jnp.asarray(jnp.inf), peak=jnp.zeros(L + 1, jnp.int32))
         return with_capacity(H, caps, halo_caps, lay)
-
-
-def _set(levels: tuple, level: int, value) -> tuple:
-    return levels[:level] + (value,) + levels[level + 1:]
 
 
 def _face_shape(lay: Layout, d: int) -> tuple[int, ...]:
@@ -227,8 +227,10 @@ def grown(H: Hierarchy, lay: Layout) -> Hierarchy | None:
     if not any(int(need[level, 0]) > caps[level] or int(need[level, 1]) > halo_caps[level]
                for level in range(1, lay.levels)):
         return None
-    caps = [caps[0]] + [max(c, capacity_for(int(n))) for c, n in zip(caps[1:], need[1:, 0])]
-    halo_caps = [halo_caps[0]] + [max(c, capacity_for(int(n))) for c, n in zip(halo_caps[1:], need[1:, 1])]
+    most = [lay.n_blocks(level) for level in range(1, lay.levels)]
+    caps = [caps[0]] + [max(c, capacity_for(int(n), m)) for c, n, m in zip(caps[1:], need[1:, 0], most)]
+    halo_caps = [halo_caps[0]] + [max(c, capacity_for(int(n), m))
+                                  for c, n, m in zip(halo_caps[1:], need[1:, 1], most)]
     return with_capacity(H, caps, halo_caps, lay)
 
 
@@ -242,8 +244,8 @@ def composite(H: Hierarchy, lay: Layout) -> list[np.ndarray]:
         if out is None:
             out = fields
             continue
-        out = [_doubled(a) for a in out]
-        covered = _cells_of(np.asarray(H.maps[level]), lay.block)
+        out = [repeated(a, 2) for a in out]
+        covered = repeated(np.asarray(H.maps[level]), lay.block)
         for a, f in zip(out, fields):
             a[covered] = f[covered]
     return out
@@ -256,18 +258,6 @@ def _global(u: np.ndarray, lay: Layout, level: int) -> np.ndarray:
     nbx, nby = lay.blocks(level)
     B = lay.block
     return u.reshape(nby, nbx, B, B).transpose(0, 2, 1, 3).reshape(nby * B, nbx * B)
-
-
-def _doubled(a: np.ndarray) -> np.ndarray:
-    for axis in range(a.ndim):
-        a = np.repeat(a, 2, axis=axis)
-    return a
-
-
-def _cells_of(blocks: np.ndarray, B: int) -> np.ndarray:
-    for axis in range(blocks.ndim):
-        blocks = np.repeat(blocks, B, axis=axis)
-    return blocks
 
 
 class GrowingLoop:
@@ -308,7 +298,11 @@ def solve_refined(scene, settings: FVSettings, forced_finest: bool = False):
     hierarchy then steps its finest level as the uniform grid of ``dx``
     would, given the same steps)."""
     configure_jax()
-    refined = Refined(scene, settings, forced_finest)
+    return run_refined(scene, settings, Refined(scene, settings, forced_finest))
+
+
+def run_refined(scene, settings: FVSettings, refined: Refined):
+    """Run ``scene`` with the compiled parts of a refined run, ``refined``."""
     lay = refined.layout
     started = _time.perf_counter()
     H = refined.initial(scene.t_start)
@@ -353,12 +347,10 @@ class _RefinedRun(RunRecord):
     def __init__(self, scene, refined: Refined, settings, compile_seconds, history):
         super().__init__(scene, "fv", settings, compile_seconds, history)
         self.refined, self.layout = refined, refined.layout
-        self.floors, self.blocks_max, self.updates, self.how = np.zeros(3), np.zeros(self.layout.levels), 0.0, ""
+        self.how = ""
 
     def fields(self, H):
         lay, scene = self.layout, self.scene
-        self.floors, self.updates = np.asarray(H.floors), float(H.updates)
-        self.blocks_max = np.maximum(self.blocks_max, [int(a[1]) for a in H.active])
         W = primitive(tuple(composite(H, lay)), scene.gamma)
         W = [np.asarray(a) for a in W]
         values = {"rho": W[0], "u": W[1], "p": W[-1], "e": W[-1] / ((scene.gamma - 1.0) * W[0])}
@@ -385,13 +377,15 @@ class _RefinedRun(RunRecord):
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux, "
                   f"on {lay.levels} levels of ratio 2 (blocks of {lay.block} cells, Berger-Colella subcycling and "
                   f"refluxing, MC-limited conservative prolongation, Lohner estimator on density and pressure: refine "
-                  f"above {s['refine']:g}, keep above {s['derefine']:g}), a-posteriori positivity fallback to first "
+                  f"above {s['refine']:g}, keep above {s['derefine']:g}; relative variation above {s['gradient']:g}), "
+                  "a-posteriori positivity fallback to first "
                   f"order, vacuum floors ({FLOOR:g} of the largest density and pressure) where a near-vacuum still "
                   "turns negative")
-        cells, mass, energy = self.floors
-        block_cells = lay.block ** lay.dim
+        H = self.state
+        cells, mass, energy = np.asarray(H.floors)
+        blocks = int(np.asarray(H.peak)[-1])
+        cells_max = blocks * lay.block ** lay.dim
         attrs = {"regrid": f"finest-level composite, {self.how}", "levels": lay.levels, "block": lay.block,
-                 "blocks_max": int(self.blocks_max.sum()), "cells_max": int(self.blocks_max.sum() * block_cells),
-                 "cell_updates": self.updates, "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass),
-                 "vacuum_floor_energy": float(energy)}
-        return fields, None, scheme, int(self.blocks_max.sum() * block_cells), attrs
+                 "blocks_max": blocks, "cells_max": cells_max, "cell_updates": float(H.updates),
+                 "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass), "vacuum_floor_energy": float(energy)}
+        return fields, None, scheme, cells_max, attrs

@@ -176,7 +176,8 @@ def vacuum_floored(U, gamma, fluid=None):
     to ``p_f = FLOOR · max p`` by internal energy alone (density and
     momentum kept); a non-positive density set to ``ρ_f = FLOOR · max ρ``
     at rest with pressure ``p_f``. ``cells`` counts them; ``Δρ`` and ``ΔE``
-    are the mass and energy per unit volume that changed (0 elsewhere).
+    are the mass and energy per unit volume that changed (0 elsewhere,
+    and outside the ``fluid``).
 
     The last resort after the positivity fallback: in a near-vacuum (the
     attached expansion round the rear of a rod at 0.25 mm, kinetic energy
@@ -195,7 +196,7 @@ def vacuum_floored(U, gamma, fluid=None):
     E = jnp.where(empty, p_f / (gamma - 1.0), jnp.where(low, U[-1] + (p_f - p) / (gamma - 1.0), U[-1]))
     mass = jnp.where(empty, rho_f, rho)
     momentum = tuple(jnp.where(empty, 0.0, m) for m in U[1:-1])
-    return (mass, *momentum, E), jnp.sum(empty | low), mass - rho, E - U[-1]
+    return (mass, *momentum, E), jnp.sum(empty | low), jnp.where(gas, mass - rho, 0.0), jnp.where(gas, E - U[-1], 0.0)
 
 
 def second_order_allowed(ok, U_new, gamma):

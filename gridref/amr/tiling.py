@@ -1,0 +1,48 @@
+"""A batch of block windows laid side by side as one array, so that the
+uniform grid's stencil kernels advance every block at once.
+
+``n`` windows of ``h`` cells a side (a block and its ghost layers) become
+one array of ``R × C`` windows (2D; one row of windows in 1D). A stencil
+kernel run over it computes, near the seams between two windows, values
+that mix both: they land in each window's ghost layers only, which a
+window's own cells never read through a stencil no wider than its ghosts,
+and which :func:`windowed` leaves out. Batched this way the kernels run at
+the uniform grid's speed per cell; batched with ``jax.vmap`` over small
+windows, XLA on the CPU ran them three to nine times slower (measured with
+a MUSCL–Hancock step on 16² and 32² blocks).
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax.numpy as jnp
+
+
+def rows_for(n: int) -> int:
+    """Rows of windows for ``n`` windows: the largest divisor of ``n`` up to
+    half its square root (a wide array, fastest in the measurements)."""
+    limit = max(1, int(math.isqrt(n) // 2))
+    return max(d for d in range(1, limit + 1) if n % d == 0)
+
+
+def tiled(a, rows: int):
+    """Windows ``a`` (n, h[, h]) side by side: (rows·h, n/rows·h) in 2D, (n·h,) in 1D."""
+    if a.ndim == 2:
+        return a.reshape(-1)
+    n, h, w = a.shape
+    return a.reshape(rows, n // rows, h, w).transpose(0, 2, 1, 3).reshape(rows * h, (n // rows) * w)
+
+
+def windowed(a, rows: int, n: int, h: int, sizes: tuple[int, ...]):
+    """The inverse of :func:`tiled` for an array computed from a tiled one and
+    cut short at the end (a stencil's output, starting ``k`` cells into the
+    tiled array): each window's first ``sizes`` cells (per axis, laid out
+    ``([y,] x)``) counted from ``k`` into that window, as (n, *sizes)."""
+    if a.ndim == 1:
+        a = jnp.pad(a, (0, n * h - a.shape[0]))
+        return a.reshape(n, h)[:, : sizes[0]]
+    cols = n // rows
+    a = jnp.pad(a, ((0, rows * h - a.shape[0]), (0, cols * h - a.shape[1])))
+    a = a.reshape(rows, h, cols, h)[:, : sizes[0], :, : sizes[1]]
+    return a.transpose(0, 2, 1, 3).reshape(n, *sizes)
