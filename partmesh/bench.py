@@ -79,7 +79,10 @@ def throughput(method: str, size: int, t_end: float, problem=None, **settings) -
     particles), as does WCSPH (pairs within its one support H). ``problem``
     replaces the method's problem (:data:`PROBLEMS`): :func:`bench` runs
     ``fv`` on the spherical Sedov blast in r–z too, on as many cells as the
-    planar one, for the rate of the axisymmetric scheme."""
+    planar one, for the rate of the axisymmetric scheme. A refined ``fv``
+    run (``levels`` > 1) counts the cell updates its levels made (its
+    ``cell_updates``), so its rate compares with the uniform grid's per
+    cell updated."""
     scene, dx = (problem or PROBLEMS[method])(size)
     ds = run(scene, method, dx=dx, t_end=t_end, progress=False, **settings)
     n = ds.attrs["n_elements"]
@@ -87,7 +90,12 @@ def throughput(method: str, size: int, t_end: float, problem=None, **settings) -
     common = {"method": method, "case": scene.name, "n_elements": n, "compile_seconds": ds.attrs["compile_seconds"],
               "wall_seconds": ds.attrs["wall_seconds"], "n_steps": ds.attrs["n_steps"],
               "precision": settings.get("precision", "float64")}
-    records = [{**common, "metric": metric, "value": n * ds.attrs["n_steps"] / ds.attrs["wall_seconds"], "unit": unit}]
+    if "cell_updates" in ds.attrs:  # a refined run: the cells its levels updated, per second
+        common["levels"] = ds.attrs["levels"]
+        updates = ds.attrs["cell_updates"]
+    else:
+        updates = n * ds.attrs["n_steps"]
+    records = [{**common, "metric": metric, "value": updates / ds.attrs["wall_seconds"], "unit": unit}]
     if method in ("sph", "wcsph"):
         passes = [k for k in ("seconds_search", "seconds_density", "seconds_forces") if k in ds.attrs]
         records.append({**common, "metric": "force_interactions_per_s", "unit": "interactions/s",
@@ -122,6 +130,10 @@ def time_to_accuracy(method: str) -> list[dict]:
 
 #: (cells across, t_end) of the small 2D Sedov grids of ``fv`` (about 60 and 110 steps)
 SMALL_FV_GRIDS = ((64, 0.15), (128, 0.08))
+#: (cells across, t_end) of the large 2D Sedov grids of ``fv`` (about 60 steps each): the rate against size
+LARGE_FV_GRIDS = ((1024, 0.004), (2048, 0.001))
+#: (finest cells across, levels, t_end) of the refined 2D Sedov run of ``fv``: the rate per cell updated
+REFINED_FV = (512, 3, 0.1)
 
 
 def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = False) -> list[dict]:
@@ -139,8 +151,10 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
             records += throughput(method, *sizes[method], problem=_sedov_spherical)
         if method == "fv" and not quick:
             # small grids, long enough to be timed: the rate a step loop keeps when a grid is small
-            for n, t_end in SMALL_FV_GRIDS:
+            for n, t_end in SMALL_FV_GRIDS + LARGE_FV_GRIDS:
                 records += throughput(method, n, t_end)
+            n, levels, t_end = REFINED_FV
+            records += throughput(method, n, t_end, levels=levels)
     for method in (m for m in registered if registry.method(m).medium == "gas"):  # (sod is a gas scene)
         records += time_to_accuracy(method)
     for r in records:

@@ -1,7 +1,7 @@
 """Where a level needs a finer one: Löhner's error estimator and the
 relative variation.
 
-For a variable q and each axis, the normalised second difference
+For a variable q and each axis, the normalised second difference::
 
     E = |q₊ − 2q + q₋| / (|q₊ − q| + |q − q₋| + ε (|q₊| + 2|q| + |q₋|)),
 
@@ -14,7 +14,7 @@ estimate is the largest over the axes and the variables the method names
 Löhner's estimate finds jumps and kinks and passes over smooth regions,
 however steep, where the coarser level's error is that of a smooth flow at
 twice the spacing (a rarefaction of Sod's tube on the coarser level holds
-a third of the uniform grid's L1 error more). The relative variation
+a third of the uniform grid's L1 error more). The relative variation::
 
     V = |q₊ − q₋| / (|q₊| + 2|q| + |q₋|),
 

@@ -38,7 +38,7 @@ def windowed(a, rows: int, n: int, h: int, sizes: tuple[int, ...]):
     """The inverse of :func:`tiled` for an array computed from a tiled one and
     cut short at the end (a stencil's output, starting ``k`` cells into the
     tiled array): each window's first ``sizes`` cells (per axis, laid out
-    ``([y,] x)``) counted from ``k`` into that window, as (n, *sizes)."""
+    ``([y,] x)``) counted from ``k`` into that window, as an array ``(n, *sizes)``."""
     if a.ndim == 1:
         a = jnp.pad(a, (0, n * h - a.shape[0]))
         return a.reshape(n, h)[:, : sizes[0]]

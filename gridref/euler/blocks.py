@@ -118,8 +118,9 @@ class LevelStepper:
             volume = float(np.prod(scheme.dx))
             return U, cfl_dt(U), cells, jnp.sum(mass) * volume, jnp.sum(energy) * volume
 
+        start = (U0, jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
         (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
-                                                         jnp.ones((n, *ring), bool), self.RETRIES)
+                                                         jnp.ones((n, *ring), bool), self.RETRIES, start)
         H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)
         forces = self._side_forces(H, level, ids, valid, fluxes)
         H = H._replace(floors=H.floors + added, updates=H.updates + count * np.prod(lay.block_shape))

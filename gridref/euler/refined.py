@@ -148,8 +148,15 @@ class Refined:
             coarser = restrict(H.U[level - 1], H.U[level], level, H.active[level][0])
             H = H._replace(U=with_level(H.U, level - 1, coarser))
         counts = np.asarray(H.need)
-        return with_capacity(H, [full[0]] + [capacity_for(int(c), n) for c, n in zip(counts[1:, 0], full[1:])],
-                             [1] + [capacity_for(int(c), n) for c, n in zip(counts[1:, 1], full[1:])], lay)
+        # lists start with room for a tenth of a level's blocks (and a quarter more, to a power of two): a
+        # front that grows from a point would otherwise outgrow them several times, each a compile of the
+        # loop; an empty slot costs little (its chunk is not advanced)
+        room = [capacity_for(n // 10, n) for n in full]
+
+        def caps(column):
+            return [max(capacity_for(int(c), n), r) for c, n, r in zip(counts[1:, column], full[1:], room[1:])]
+
+        return with_capacity(H, [full[0]] + caps(0), [1] + caps(1), lay)
 
     def _initial_blocks(self, level: int, ids: np.ndarray):
         """The scene's initial conservative state on the blocks ``ids`` of ``level``."""

@@ -287,7 +287,7 @@ def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed):
     return divergence, forces
 
 
-def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable, allowed, retries: int):
+def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable, allowed, retries: int, start):
     """``(out, added)``: the step ``attempt(allowed) -> (out, ok)`` (``out =
     (U_new, dt_next, ...)``, ``dt_next`` NaN where ``U_new`` is not
     physical) taken with the cells ``allowed`` second order, then redone up
@@ -296,15 +296,22 @@ def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable
     physical, ``floored(U_new) -> (U, dt_next, cells, mass, energy)`` (the
     vacuum floors, :func:`vacuum_floored`) as the last resort. ``added``
     counts the cells the floors changed and the mass and energy they added
-    (zeros when none did)."""
-    out, ok = attempt(allowed)
+    (zeros when none did).
 
-    def retried(carry):
+    The first attempt is the loop's first pass, so the program holds the
+    step once: ``start`` is an ``out`` of the shapes ``attempt`` returns (any
+    values: none is read)."""
+    def tried(carry):
         out, ok, k = carry
-        out, ok = attempt(allowed_after(ok, out[0]))
+        chosen = jax.lax.cond(k == 0, lambda ok, U: allowed, allowed_after, ok, out[0])
+        out, ok = attempt(chosen)
         return out, ok, k + 1
 
-    out, _, _ = jax.lax.while_loop(lambda c: ~jnp.isfinite(c[0][1]) & (c[2] < retries), retried, (out, ok, 0))
+    def again(carry):
+        out, _, k = carry
+        return (k == 0) | (~jnp.isfinite(out[1]) & (k <= retries))
+
+    out, _, _ = jax.lax.while_loop(again, tried, (start, allowed, 0))
 
     def with_floors(out):
         U_new, dt_next, cells, mass, energy = floored(out[0])
@@ -384,8 +391,9 @@ class Stepper:
                 return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma), gate)(ok, U_new)
 
             first = jnp.ones(Wg[0].shape, bool)[tuple(slice(1, -1) for _ in range(scheme.dim))]
+            start = (U, jnp.zeros(()), jnp.zeros(2 * scheme.dim), jnp.zeros(n_probes if probe_sampler else 0))
             (U_new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after,
-                                                                     staged(floored, gate), first, self.RETRIES)
+                                                                     staged(floored, gate), first, self.RETRIES, start)
             return (U_new, floors + added), dt_next, probes, forces
 
         self.step = step
