@@ -48,7 +48,8 @@ def _offsets(n: int, axis: int, ndim: int):
 def prolonged(window, admissible=None):
     """The children of the interior cells of a coarse ``window`` (a tuple
     over variables of arrays with one ghost cell on every side, laid out
-    ``([y,] x)``): arrays twice the interior's size along every axis."""
+    ``([y,] x)``, of any shape): arrays twice the interior's size along
+    every axis."""
     ndim = window[0].ndim
     inner = [_crop_all(a) for a in window]
     slopes = []
@@ -59,8 +60,8 @@ def prolonged(window, admissible=None):
             per_axis.append(monotonized_central(_crop(others, axis, 1, 1) - _crop(others, axis, 0, 2),
                                                 _crop(others, axis, 2, 0) - _crop(others, axis, 1, 1)))
         slopes.append(per_axis)
-    n = 2 * inner[0].shape[0]
-    linear = [_doubled(c) + sum(_doubled(s) * _offsets(n, axis, ndim) for axis, s in enumerate(per_axis))
+    linear = [_doubled(c) + sum(_doubled(s) * _offsets(2 * c.shape[axis], axis, ndim)
+                                for axis, s in enumerate(per_axis))
               for c, per_axis in zip(inner, slopes)]
     if admissible is None:
         return tuple(linear)

@@ -1,8 +1,9 @@
 """One MUSCL–Hancock step of one level of a block-structured hierarchy
 (:mod:`partmesh.gridref.amr.hierarchy`): every active block read with two
 ghost layers from the level's storage (:mod:`partmesh.gridref.amr.windows`)
-and advanced by the kernels of :mod:`partmesh.gridref.euler.step`, batched
-over the blocks (``jax.vmap``), with the same a-posteriori positivity
+and advanced by the kernels of :mod:`partmesh.gridref.euler.step`, in
+chunks of blocks laid side by side (:mod:`partmesh.gridref.amr.tiling`),
+with the same a-posteriori positivity
 fallback and vacuum floors as a uniform grid
 (:func:`~partmesh.gridref.euler.step.with_fallbacks`): a hierarchy whose
 every block is active steps exactly as the uniform grid does.
