@@ -197,6 +197,7 @@ def test_obstacle_reaching_an_inflow_or_periodic_side(method, case, centre, side
     assert "obstacle 0" in message and side in message
 
 
+@pytest.mark.full
 def test_unstable_sph_run_stops_with_its_partial_result():
     # a pressure ratio of 1e5 without artificial viscosity or conduction cannot be run
     scene = partmesh.scene("sod", left_p=1e5)
@@ -211,6 +212,7 @@ def test_unstable_sph_run_stops_with_its_partial_result():
     assert np.all(np.isfinite(partial.rho.isel(time=-1))) and float(partial.rho.isel(time=-1).min()) > 0.0
 
 
+@pytest.mark.full
 def test_sph_support_wider_than_half_a_period_stops_in_one_sentence():
     # one row pitch (0.04 m) at 4 mm: supports of 16 mm that must grow beyond the 20 mm minimum images allow
     scene = partmesh.scene("blast_array", one_period=True)
@@ -261,9 +263,9 @@ def cli(*args, cwd):
 
 @pytest.mark.parametrize("args, names", [
     (("run", "nope", "--method", "fv", "-o", "x.nc"), "nope"),
-    (("run", "sod", "--method", "nope", "-o", "x.nc"), "nope"),
+    pytest.param(("run", "sod", "--method", "nope", "-o", "x.nc"), "nope", marks=pytest.mark.full),
     (("run", "sod", "--method", "fv", "--set", "left_rho=-1", "-o", "x.nc"), "left_rho"),
-    (("run", "sod", "--method", "fv", "--cfl", "1.5", "-o", "x.nc"), "cfl"),
+    pytest.param(("run", "sod", "--method", "fv", "--cfl", "1.5", "-o", "x.nc"), "cfl", marks=pytest.mark.full),
 ])
 def test_cli_bad_input_exits_2_with_one_line(tmp_path, args, names):
     done = cli(*args, cwd=tmp_path)

@@ -84,6 +84,7 @@ def test_bad_geometry_is_refused_in_one_sentence(settings, message):
         partmesh.scene("blast_array", **settings)
 
 
+@pytest.mark.full
 def test_sph_joins_rods_cut_by_the_periodic_sides():
     """A staggered array repeats every row pitch, and its rods cut by the
     periodic sides y = 0 and y = W are the two halves of one rod: the SPH

@@ -86,6 +86,7 @@ def test_sph_lattice_masses_carry_the_initial_density():
     assert m.max() / m.min() == pytest.approx(1000 / 1.225, rel=1e-9)
 
 
+@pytest.mark.full
 def test_sph_with_lattice_masses_solves_sod():
     from partmesh.compare.metrics import field_error
 

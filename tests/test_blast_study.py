@@ -31,6 +31,7 @@ def test_the_moderate_part_is_the_seed_studys_eleven_configurations():
     assert all(a["one_period"] and a["rows"] == 3 for a in arrays)
 
 
+@pytest.mark.full
 def test_sph_runs_the_strong_traps_on_the_whole_channel_and_the_rest_on_one_row_pitch():
     # the strong traps' rarefied gas widens sph's supports beyond half a pitch; nothing else changes
     for c in configurations(PARTS):
@@ -46,6 +47,7 @@ def test_sph_runs_the_strong_traps_on_the_whole_channel_and_the_rest_on_one_row_
             assert y1 - y0 == pytest.approx(0.12 if whole else 0.04)
 
 
+@pytest.mark.full
 def test_every_configuration_builds_its_scene_and_is_named_once():
     every = configurations(PARTS)
     assert len({c.label for c in every}) == len(every)
@@ -61,6 +63,7 @@ def test_every_configuration_builds_its_scene_and_is_named_once():
         configurations(("weak",))
 
 
+@pytest.mark.full
 def test_one_array_is_one_run_whatever_part_names_it():
     # square staggered of the moderate part is the 3 layers of the layers part and standoff 0.34 of the standoff part
     every = configurations(PARTS)
@@ -84,6 +87,7 @@ def test_one_array_is_one_run_whatever_part_names_it():
     assert strong["arrangement"] == "staggered" and strong["blast"] == "strong" and strong["trap_gap"] == 0.08
 
 
+@pytest.mark.full
 def test_the_seed_studys_variants_are_staggered_and_the_recorded_ones_inline():
     for part in ("layers", "standoff", "trap", "strong", "variants_inline"):
         arrays = [c for c in configurations((part,)) if c.case == "blast_array"]

@@ -50,6 +50,7 @@ def test_a_friedlander_gauge_reads_the_wave_it_was_made_of():
     assert m["Z3_positive_impulse"] == pytest.approx(impulse, rel=2e-3)
 
 
+@pytest.mark.full
 def test_a_gauge_that_cannot_be_fitted_keeps_what_can_be_read():
     kb5 = blast_parameters(5.0, W)
     m = gauge_metrics(gauges({"Z5": friedlander(5.0, end=kb5.arrival_time + 0.5 * kb5.positive_duration),

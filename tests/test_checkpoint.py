@@ -24,6 +24,7 @@ def _run_command(case, method, dx, output, extra=()):
 
 
 # each run goes on for seconds after its first checkpoint (0.3 s of wall time), so the signal finds it running
+@pytest.mark.full
 @pytest.mark.parametrize("case, method, dx, extra, settings, stop", [
     ("sod", "fv", 1e-4, (), {}, signal.SIGTERM),
     # a hierarchy: its block lists, maps, registers and step limit are the state

@@ -52,6 +52,7 @@ def test_run_writes_a_result_file(sod_file):
     assert sorted(p.name for p in sod_file.parent.iterdir() if p.name.startswith(".")) == []
 
 
+@pytest.mark.full
 def test_run_passes_scene_settings(sedov_file):
     with xr.open_dataset(sedov_file, engine="netcdf4") as ds:
         params = json.loads(ds.attrs["parameters"])
@@ -87,6 +88,7 @@ def test_compare_against_exact_writes_the_independent_error(workdir, sod_file):
         assert table["rho_L1"].values[0] == pytest.approx(expected, rel=1e-9) and str(table["method"].values[0]) == "fv"
 
 
+@pytest.mark.full
 def test_compare_a_2d_point_blast_against_its_exact_solution(workdir, sedov_file):
     # the scene's output times start at t = 0, where a point blast has no similarity solution: compared at 0.05
     done = cli("compare", "tmp/sedov.nc", "-o", "tmp/rep_sedov", cwd=workdir)
@@ -99,6 +101,7 @@ def test_compare_a_2d_point_blast_against_its_exact_solution(workdir, sedov_file
     assert rows[0]["rho_L1"] == pytest.approx(float(np.mean(np.abs(rho - exact))), rel=1e-9)
 
 
+@pytest.mark.full
 def test_compare_against_a_reference_file(workdir, sod_file):
     done = cli("compare", "tmp/sod.nc", "--reference", "tmp/sod.nc", "-o", "tmp/rep_self", cwd=workdir)
     assert done.returncode == 0, done.stderr
@@ -106,6 +109,7 @@ def test_compare_against_a_reference_file(workdir, sod_file):
     assert rows[0]["rho_L1"] == 0.0
 
 
+@pytest.mark.full
 def test_compare_refuses_runs_of_different_scenes(workdir, sod_file, sedov_file):
     done = cli("compare", "tmp/sod.nc", "tmp/sedov.nc", "-o", "tmp/rep_mixed", cwd=workdir)
     assert done.returncode == 2
@@ -125,6 +129,7 @@ def test_cases_lists_every_scene(tmp_path):
     assert "left_rho" in done.stdout and "theta_deg" in done.stdout  # parameters are listed too
 
 
+@pytest.mark.full
 def test_solver_options_from_the_command_line_arrive_as_numbers(tmp_path):
     # --option values are strings on the command line; the solvers must use the validated numbers
     out = tmp_path / "sod_opt.nc"

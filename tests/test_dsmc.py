@@ -62,6 +62,7 @@ def test_sod_density_near_exact_at_a_coarse_resolution():
     assert field_error(ds["rho"].isel(time=-1), exact["rho"].isel(time=-1)) < 0.05
 
 
+@pytest.mark.full
 def test_sod_redrawn_about_linear_profiles_is_closer_to_exact_than_about_cell_means():
     # 100 cells, 3000 particles per cell on the low-density side (the scatter small beside the dissipation),
     # moments over 20 steps; L1(rho) measured over seeds 1, 2, 3: uniform 0.0288 / 0.0284 / 0.0278,
@@ -76,6 +77,7 @@ def test_sod_redrawn_about_linear_profiles_is_closer_to_exact_than_about_cell_me
     assert errors["linear"] < 0.026
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("collisions", [{}, {"collisions": "larsen-borgnakke", "mean_free_path": 2.5e-3}])
 def test_same_seed_same_run_at_any_thread_count_other_seed_other_run(collisions):
     import numba
@@ -201,6 +203,7 @@ def test_outflow_far_field_state_carries_each_characteristic_from_its_side(norma
     assert far_field_state(fast, far, 0, normal, g) == fast
 
 
+@pytest.mark.full
 def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     # a uniform gas at rest between two outflow sides: neither the boundary state nor the mass may drift
     scene = partmesh.scene("sod", right_rho=1.0, right_p=1.0, nx_out=50)
@@ -218,6 +221,7 @@ def test_open_sides_hold_an_undisturbed_gas_undisturbed():
     assert abs(np.mean(mass) - 1.0) < 0.008
 
 
+@pytest.mark.full
 def test_closed_box_with_obstacles_keeps_every_particle_outside_them_for_10000_steps():
     import dataclasses
 

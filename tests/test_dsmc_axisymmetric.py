@@ -79,6 +79,7 @@ def _sums(v, e, w, start):
             np.bincount(cell, w * heat, minlength=ncell))
 
 
+@pytest.mark.full
 def test_the_resampled_redraw_keeps_each_cells_mass_momentum_and_energy_and_evens_the_count():
     rng = np.random.default_rng(6)
     sizes = [1, 2, 3, 17, 40, 0, 9]
@@ -99,6 +100,7 @@ def test_the_resampled_redraw_keeps_each_cells_mass_momentum_and_energy_and_even
         assert set(map(tuple, xs[new[c]:new[c + 1]])) <= set(map(tuple, x[start[c]:start[c + 1]]))
 
 
+@pytest.mark.full
 def test_the_resampling_copies_each_particle_in_proportion_to_its_weight_whatever_its_place():
     """Light particles first in the cell, heavy ones last (the order the sort leaves: those from the inner cell
     first): over 4000 draws each is copied w / (Σw/M) times on average. A fixed offset of the systematic draw
@@ -184,6 +186,7 @@ def test_a_shell_probe_scatters_less_than_one_cell_by_about_the_root_of_its_cell
     assert abs(shell.mean() - 1.0) < 0.01 and abs(point.mean() - 1.0) < 0.1
 
 
+@pytest.mark.full
 def test_the_point_blast_as_a_sphere_against_sedov_taylor():
     """32 cells across, 30 particles each: shock radius +2.1 %, spread over polar angle 6.3 % (64: +3.3 %,
     3.1 %)."""

@@ -51,7 +51,8 @@ def test_collisions_conserve_each_cells_momentum_and_energy_to_round_off(zeta):
     assert np.all(e >= 0.0)
 
 
-@pytest.mark.parametrize("omega", [0.5, 0.74, 1.0])
+@pytest.mark.parametrize("omega", [pytest.param(0.5, marks=pytest.mark.full), 0.74,
+                                   pytest.param(1.0, marks=pytest.mark.full)])
 def test_collision_rate_is_that_of_vhs_molecules(omega):
     # a resting equilibrium gas at θ = 1, 100 particles per unit cell: the no-time-counter scheme's mean rate
     rng = np.random.default_rng(4)
@@ -74,6 +75,7 @@ def test_collision_rate_is_that_of_vhs_molecules(omega):
     assert measured == pytest.approx(rate, rel=0.015)
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("omega", [0.5, 0.74])
 def test_rotation_relaxes_at_the_larsen_borgnakke_rate_to_equipartition(omega):
     # rotationally cold gas (e = 0) at θ_t = 1, ζ = 2: per collision per particle the gap θ_t − θ_r shrinks at
@@ -130,6 +132,7 @@ def test_long_mean_free_path_gives_free_molecular_flow():
     assert ds.attrs["collisions"] < 1e-4 * ds.attrs["n_elements"] * ds.attrs["n_steps"]
 
 
+@pytest.mark.full
 def test_short_mean_free_path_gives_the_euler_shock():
     # λ = Δx/4: ~ 5 collisions per particle per step; sod's plateau behind the shock (exact ρ = 0.2656) and
     # the density between rarefaction tail (x ≈ 0.486) and contact (x ≈ 0.685) (0.4263) form as in the Euler

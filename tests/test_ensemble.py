@@ -23,6 +23,7 @@ def ensemble_and_members():
     return scene, ensemble, members
 
 
+@pytest.mark.full
 def test_ensemble_is_the_moment_average_of_its_members(ensemble_and_members):
     scene, ensemble, members = ensemble_and_members
     assert ensemble.attrs["ensembles"] == 3 and json.loads(ensemble.attrs["seeds"]) == [10, 11, 12]
@@ -39,6 +40,7 @@ def test_ensemble_is_the_moment_average_of_its_members(ensemble_and_members):
     assert not np.array_equal(members[0]["rho"].values, members[1]["rho"].values)
 
 
+@pytest.mark.full
 def test_ensemble_scatter_falls_like_one_over_root_k(ensemble_and_members):
     scene, ensemble, members = ensemble_and_members
 

@@ -95,6 +95,7 @@ def _bodies_of_revolution():
     return immersed_boundary(grid, [half_disc, Circle(0.025, 0.02, 0.006)], (False, False), radial=1)
 
 
+@pytest.mark.full
 def test_a_gas_at_rest_around_bodies_of_revolution_stays_at_rest():
     """The wall vector closes every ring cut cell against its faces and its hoop source."""
     ib = _bodies_of_revolution()
@@ -109,6 +110,7 @@ def test_a_gas_at_rest_around_bodies_of_revolution_stays_at_rest():
     assert np.max(np.abs(W[0] - 1.0)) < 1e-12
 
 
+@pytest.mark.full
 def test_a_closed_cylinder_around_bodies_of_revolution_keeps_its_mass_and_energy():
     ib = _bodies_of_revolution()
     W = _hot_spot(ib.shape)
@@ -123,6 +125,7 @@ def test_a_closed_cylinder_around_bodies_of_revolution_keeps_its_mass_and_energy
     np.testing.assert_allclose([float(np.sum(weight * np.asarray(U[i]))) for i in (0, -1)], before, rtol=1e-13)
 
 
+@pytest.mark.full
 def test_a_state_uniform_along_the_axis_steps_as_the_cylinder():
     ny, nx = 8, 40
     W1 = _hot_spot((nx,))

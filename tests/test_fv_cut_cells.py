@@ -54,6 +54,7 @@ def test_small_cells_are_merged_into_groups_of_at_least_half_a_cell():
     assert np.all(kappa[ib.group[small]] > 0)
 
 
+@pytest.mark.full
 def test_a_gas_at_rest_stays_at_rest_around_rods():
     """The wall vector closes every cut cell, so the walls' pressure
     balances the faces' to round-off."""
@@ -87,6 +88,7 @@ def _closed_box(dx):
     return dataclasses.replace(scene, boundaries=sides, initial=initial)
 
 
+@pytest.mark.full
 def test_a_closed_box_holding_an_array_keeps_its_mass_and_energy():
     """3 ms of a shock through a staggered array and back: mass and energy
     to round-off (a ghost-cell boundary gains 2–4 % of the mass here)."""
@@ -97,6 +99,7 @@ def test_a_closed_box_holding_an_array_keeps_its_mass_and_energy():
     assert ds.attrs["energy_drift"] < 1e-12
 
 
+@pytest.mark.full
 def test_one_period_across_y_equals_the_full_channel():
     runs = [partmesh.run(partmesh.scene("blast_array", arrangement="staggered", one_period=one, t_end=1.6e-3), "fv",
                       dx=4e-3, progress=False) for one in (True, False)]

@@ -154,7 +154,8 @@ def reflection_coefficient_textbook(Ms, gamma=1.4):
     return (y * ratio - 1.0) / (y - 1.0)
 
 
-@pytest.mark.parametrize("Ms", [1.5, 3.2, 6.0, 10.0])
+@pytest.mark.parametrize("Ms", [1.5, 3.2, pytest.param(6.0, marks=pytest.mark.full),
+                                pytest.param(10.0, marks=pytest.mark.full)])
 def test_shock_reflection_coefficient(Ms):
     c_exact = float(exact.reflection_coefficient(Ms))
     assert c_exact == pytest.approx(reflection_coefficient_textbook(Ms), rel=1e-10)
@@ -185,6 +186,7 @@ def sedov_box():
     return scene, run(scene, dx=0.6 / 48)
 
 
+@pytest.mark.full
 def test_sedov_closed_box_conserves_mass_energy_to_round_off(sedov_box):
     scene, ds = sedov_box
     assert ds.attrs["regrid"] == "identity"
@@ -203,6 +205,7 @@ def test_sedov_closed_box_conserves_mass_energy_to_round_off(sedov_box):
         assert abs(e - e0) <= 1e-11 * e0, f"energy drift at t = {float(ds.time[k])}"
 
 
+@pytest.mark.full
 def test_sedov_closed_box_momentum_stays_zero_by_symmetry(sedov_box):
     scene, ds = sedov_box
     dV = (0.6 / 48) ** 2
@@ -313,6 +316,7 @@ def limiter_riemann_errors(sod_scene):
             for lim in LIMITERS for rs in RIEMANN_SOLVERS}
 
 
+@pytest.mark.full
 def test_every_limiter_and_riemann_solver_solves_sod(limiter_riemann_errors):
     assert set(LIMITERS) >= {"minmod", "mc", "vanleer", "superbee", "first_order"}
     assert set(RIEMANN_SOLVERS) >= {"hllc", "hll", "rusanov", "efm"}
@@ -323,6 +327,7 @@ def test_every_limiter_and_riemann_solver_solves_sod(limiter_riemann_errors):
         assert lim == "first_order" or err < limiter_riemann_errors[("first_order", rs)], (lim, rs)
 
 
+@pytest.mark.full
 def test_settings_take_effect_in_the_known_order(limiter_riemann_errors):
     """The swap is real: HLLC resolves the contact that HLL smears, Rusanov
     is the most diffusive (Toro 2009 ch. 10), and minmod is more diffusive
@@ -347,7 +352,7 @@ def sine_scene(n):
     )
 
 
-@pytest.mark.parametrize("limiter", ["vanleer", "mc"])
+@pytest.mark.parametrize("limiter", [pytest.param("vanleer", marks=pytest.mark.full), "mc"])
 def test_smooth_wave_second_order(limiter):
     errs = []
     for n in (64, 128):

@@ -213,6 +213,7 @@ def test_hybrid_sod_density_error_is_within_a_fifth_of_pure_sph_at_the_same_spac
     assert errors["hybrid"] < 5e-3
 
 
+@pytest.mark.full
 def test_hybrid_sod_holds_particles_only_near_the_waves():
     ds = partmesh.run(SOD, "hybrid", dx=1 / 800, progress=False)
     # the grid has 200 cells of 4 particles: the waves span about 0.6 of the tube at t = 0.2
@@ -238,6 +239,7 @@ def test_hybrid_refuses_scenes_with_obstacles():
         partmesh.run(partmesh.scene("blast_array", one_period=True), "hybrid", progress=False)
 
 
+@pytest.mark.full
 def test_settings_given_as_text_run_as_their_values():
     # the CLI passes --option eta=4 as the text '4': the particles must see the number
     as_text = partmesh.run("sod", "hybrid", dx=5e-3, eta="4", alpha_max="2.5", kernel="wendland_c6", progress=False)

@@ -58,6 +58,7 @@ def test_grid_convergence_flags_levels_that_do_not_converge():
     assert "do not converge" in row["note"]
 
 
+@pytest.mark.full
 def test_report_extrapolates_blast_wall_loads_towards_the_fine_grid(tmp_path):
     # FV at 4, 2 and 1 mm: the Richardson values of the wall impulse, arrival time and fitted peak
     # lie closer to a 0.25 mm run than the 1 mm run does, and the 1 mm run is within its GCI of it

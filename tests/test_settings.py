@@ -63,6 +63,7 @@ def _typed(method, checked) -> None:
             assert value == value, (method, f.name)  # (no NaN gets through)
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("method", METHODS)
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(data=st.data())

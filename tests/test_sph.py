@@ -78,6 +78,7 @@ def test_summation_density_and_support_solve_each_other_on_a_lattice():
 
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("Ms", [1.5, 3.2])
 def test_shock_reflection_1d_through_the_inflow_buffer(Ms):
     # the incident shock is made by the inflow buffer imposing the post-shock state at x = 0;
@@ -164,6 +165,7 @@ def wedge_sph(theta, dx, tmp_path):
     return ds, phi
 
 
+@pytest.mark.full
 def test_wedge_shock_angle_and_no_particle_inside_the_wedge(tmp_path):
     # skew-gradient wall: M1 = 3.5 over a 20 degree wedge at 50 particles per metre
     ds, phi = wedge_sph(20.0, 0.02, tmp_path)
@@ -249,6 +251,7 @@ def test_memory_resort_changes_nothing_but_round_off(monkeypatch):
         np.testing.assert_allclose(a[name], b[name], rtol=1e-9, atol=1e-9 * float(np.abs(b[name]).max()))
 
 
+@pytest.mark.full
 def test_reused_neighbour_lists_change_nothing_but_round_off(monkeypatch):
     # lists reused while the Verlet skin holds, or a new search every evaluation: the same run
     sph_lists = importlib.import_module("partmesh.particle.sph.lists")

@@ -95,6 +95,7 @@ def test_the_rates_of_a_stirred_hot_gas_conserve_energy():
     assert abs(power) < 1e-13 * scale
 
 
+@pytest.mark.full
 def test_the_point_blast_as_a_sphere_against_sedov_taylor():
     """64 particles across: shock radius +2.0 %, spread over polar angle 1.6 % (128: +0.87 %, 0.83 %)."""
     ds = partmesh.run("sedov_spherical", "sph", dx=1.0 / 64, progress=False)

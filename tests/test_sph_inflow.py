@@ -127,6 +127,7 @@ def test_the_face_state_is_the_riemann_solution_on_the_inlet_face():
     assert fast.state(0.0) == pytest.approx((4.0, 900.0, 0.0, 1.2e6), rel=1e-12)
 
 
+@pytest.mark.full
 def test_blast_wall_1d_waves_leave_through_the_inflow_buffer():
     # the expansion behind the decaying blast and the wave reflected from the wall reach the inlet at
     # about 2 ms; a buffer holding the imposed state reflected them (near the inlet at 2.5 ms:

@@ -40,6 +40,7 @@ def steps_kept(velocity, H, steps=40, dt=4e-5):
     return steps
 
 
+@pytest.mark.full
 def test_kept_lists_hold_every_pair_that_interacts_at_the_moved_positions():
     rng = np.random.default_rng(3)
     x, H = lattice()

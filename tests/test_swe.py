@@ -71,7 +71,7 @@ def test_ritter_dam_break_keeps_depth_non_negative_and_runs_at_the_front_speed()
     assert front == pytest.approx(5.0 + (2 * np.sqrt(G) - np.sqrt(9 * G * 1e-3)) * 0.5, abs=0.15)
 
 
-@pytest.mark.parametrize("dim", [1, 2])
+@pytest.mark.parametrize("dim", [1, pytest.param(2, marks=pytest.mark.full)])
 def test_lake_at_rest_over_a_bumpy_bed_with_a_dry_island_stays_at_rest(dim):
     ds = partmesh.run(partmesh.scene("lake_at_rest", dim=dim), "swe", progress=False)
     assert float(np.nanmax(np.abs(ds.eta))) <= 1e-12
@@ -92,6 +92,7 @@ def test_radial_lake_at_rest_is_balanced():
     assert smallest == 0.0
 
 
+@pytest.mark.full
 def test_radial_run_equals_the_2d_run_of_an_axisymmetric_hump():
     # a Gaussian hump 0.1 m high on 1 m of water: the 1D-radial solution against the 2D one along the axis
     n, dx = 100, 0.02
@@ -125,6 +126,7 @@ def test_closed_basin_conserves_volume_to_round_off():
     assert smallest >= 0.0
 
 
+@pytest.mark.full
 def test_absorbing_side_lets_a_long_wave_leave():
     # a hump of 1 cm on 1 m of water splits into two long waves; each end of the channel either
     # reflects them (wall) or lets them leave (absorbing)
@@ -183,6 +185,7 @@ def test_wave_scenes_refuse_a_flume_short_enough_for_reflections_to_reach_the_ga
         partmesh.scene("prins_mound", length=12.0)
 
 
+@pytest.mark.full
 def test_a_dam_across_a_square_basin_breaks_as_in_one_dimension():
     # dim=2: the dam spans the basin between walls at y = 0 and 10 m, so the flow stays 1D (the bench problem)
     flat, square = partmesh.scene("dam_break", nx_out=100), partmesh.scene("dam_break", nx_out=100, dim=2)

@@ -40,6 +40,7 @@ def _command(folder):
             "-o", str(folder)]
 
 
+@pytest.mark.full
 def test_a_killed_sweep_is_finished_by_running_it_again(tmp_path):
     folder = tmp_path / "runs"
     process = subprocess.Popen(_command(folder), start_new_session=True, stdout=subprocess.DEVNULL,
@@ -100,6 +101,7 @@ def _to_the_worker(process, stop):
     workers[0].send_signal(stop)
 
 
+@pytest.mark.full
 def test_a_stopped_sweep_saves_its_runs_under_way_and_resumes_them(tmp_path):
     """SIGTERM to the sweep alone (a batch system's kill), to its worker alone, then Ctrl-C (SIGINT to the sweep
     and its worker): each time the run under way ends its step, writes its partial result and its state, and

@@ -51,6 +51,7 @@ def tank(tmp_path_factory):
     return scene, ds, xr.open_dataset(path)
 
 
+@pytest.mark.full
 def test_a_tank_at_rest_stays_hydrostatic(tank):
     scene, ds, particles = tank
     d, rho0 = scene.depth, scene.rho
@@ -69,6 +70,7 @@ def test_a_tank_at_rest_stays_hydrostatic(tank):
     assert float(np.abs(ds.eta).max()) < 1e-4
 
 
+@pytest.mark.full
 def test_the_energy_of_the_tank_decays_and_never_grows(tank):
     scene, ds, _ = tank
     energy = ds.attrs["total_energy"]
