@@ -48,8 +48,8 @@ class Hierarchy(NamedTuple):
     to ``d``; ``active[l]``, ``halo[l]``: ``(ids, count)``; ``maps[l]``:
     the active blocks as a boolean map; ``floors``: cells the vacuum floors
     changed and the mass and energy they added; ``updates``: cell updates
-    made; ``need``: the capacities the last regrid asked for, per level
-    (active, halo), when it found a list too short; ``dt_limit``: the
+    made; ``need``: the list lengths the last regrid asked for, per level
+    (active, halo); ``dt_limit``: the
     largest step of level 0 the next may take, however stable
     (:data:`GROWTH` times the last); ``peak``: the most active blocks each
     level has held, and (last) the most all levels have held at once."""

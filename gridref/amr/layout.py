@@ -70,6 +70,13 @@ class Layout:
         """A block's cells in the field layout ``([y,] x)``."""
         return (self.block,) * self.dim
 
+    def face_shape(self, d: int) -> tuple[int, ...]:
+        """A block's faces normal to axis ``d``, laid out ``([y,] x)``."""
+        B = self.block
+        if self.dim == 1:
+            return (B + 1,)
+        return (B, B + 1) if d == 0 else (B + 1, B)
+
     def cell_index(self, level: int, at):
         """The flat index, into ``level``'s block-major storage raveled, of
         the cells at global indices ``at`` (per axis, x first; numpy or JAX

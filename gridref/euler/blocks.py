@@ -18,13 +18,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, with_level
-from partmesh.gridref.amr.layout import coords_of
+from partmesh.gridref.amr.layout import coords_of, flat_id
 from partmesh.gridref.amr.tiling import rows_for, tiled, windowed
 from partmesh.gridref.amr.windows import Sources, block_origins, gathered, sources
 from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
-from partmesh.gridref.euler.step import (Scheme, face_flux, flux_update, half_step, slopes_of, stable_dt,
-                                         vacuum_floored, with_fallbacks)
+from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_update, half_step, slopes_of,
+                                         stable_dt, vacuum_floored, with_fallbacks)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.staging import staged
 
@@ -54,8 +54,6 @@ class LevelStepper:
     finer level and the refluxing, and its boundary fluxes added to its
     register (:class:`~partmesh.gridref.amr.hierarchy.Hierarchy`)."""
 
-    RETRIES = 2
-
     def __init__(self, levels: Levels, scheme: Scheme):
         self.levels, self.layout = levels, levels.layout
         self.schemes = [replace(scheme, dx=self.layout.spacing(level)) for level in range(self.layout.levels)]
@@ -72,7 +70,7 @@ class LevelStepper:
         gate = jnp.isfinite(dt)
         U0 = levels.blocks_of(H.U[level], ids)
         ring = tuple(b + 2 for b in lay.block_shape)  # a block and one ghost layer: where ``ok`` lives
-        faces = [_face_shape(B, d, lay.dim) for d in range(lay.dim)]
+        faces = [lay.face_shape(d) for d in range(lay.dim)]
 
         def chunk(c, allowed):
             """The step of the ``K`` blocks of chunk ``c``, tiled side by side."""
@@ -121,7 +119,7 @@ class LevelStepper:
 
         start = (U0, jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
         (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
-                                                         jnp.ones((n, *ring), bool), self.RETRIES, start)
+                                                         jnp.ones((n, *ring), bool), Stepper.RETRIES, start)
         H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)
         forces = self._side_forces(H, level, ids, valid, fluxes)
         H = H._replace(floors=H.floors + added, updates=H.updates + count * np.prod(lay.block_shape))
@@ -215,13 +213,6 @@ def _tiled_ring(a, rows: int):
     return t[tuple(slice(0, n - 2) for n in t.shape)]
 
 
-def _face_shape(B: int, d: int, dim: int) -> tuple[int, ...]:
-    """A block's faces normal to axis ``d``, laid out ``([y,] x)``."""
-    if dim == 1:
-        return (B + 1,)
-    return (B, B + 1) if d == 0 else (B + 1, B)
-
-
 def _boundary_faces(F, d: int, dim: int):
     """A batch of blocks' fluxes through their two boundary faces normal to
     axis ``d``: (n, 2[, B]) from (n, B + 1) or (n, B[, B + 1]) / (n, B + 1, B)."""
@@ -245,6 +236,6 @@ def _covered(maps_fine, ids, lay, level):
         return jnp.repeat(kids, half, axis=1)
     cx = 2 * coords[0][:, None, None] + offsets[None, None, :]
     cy = 2 * coords[1][:, None, None] + offsets[None, :, None]
-    kids = flat[cy * nb_f[0] + cx]  # (n, 2, 2)
+    kids = flat[flat_id((cx, cy), nb_f)]  # (n, 2, 2)
     return jnp.repeat(jnp.repeat(kids, half, axis=1), half, axis=2)
 

@@ -37,7 +37,7 @@ from partmesh.gridref.amr.transfer import repeated
 from partmesh.gridref.device_loop import device_loop
 from partmesh.gridref.euler.blocks import LevelStepper, admissible, sensed
 from partmesh.gridref.euler.method import FVSettings, boundary_kinds
-from partmesh.gridref.euler.setup import failure_sentence, inflow_states
+from partmesh.gridref.euler.setup import failure_sentence, inflow_states, named_fields
 from partmesh.gridref.euler.state import conservative, primitive
 from partmesh.gridref.euler.step import FLOOR, Scheme, stable_dt
 from partmesh.gridref.grid import solver_grid
@@ -180,7 +180,7 @@ class Refined:
         full = [lay.n_blocks(level) for level in range(L)]
         U = tuple(levels.empty(level) for level in range(L))
         old = tuple(levels.empty(level) for level in range(L - 1))
-        flux = tuple(tuple(tuple(jnp.zeros((full[level], *_face_shape(lay, d))) for _ in range(self.n_vars))
+        flux = tuple(tuple(tuple(jnp.zeros((full[level], *lay.face_shape(d))) for _ in range(self.n_vars))
                            for d in range(lay.dim)) for level in range(L - 1))
         maps = tuple(jnp.full(lay.blocks(level)[::-1], level == 0) for level in range(L))
         active = [(jnp.arange(full[0], dtype=jnp.int32), jnp.asarray(full[0], jnp.int32))]
@@ -192,14 +192,6 @@ class Refined:
                       floors=jnp.zeros(3), updates=jnp.zeros(()), need=jnp.zeros((L, 2), jnp.int32),
                       dt_limit=jnp.asarray(jnp.inf), peak=jnp.zeros(L + 1, jnp.int32))
         return with_capacity(H, caps, halo_caps, lay)
-
-
-def _face_shape(lay: Layout, d: int) -> tuple[int, ...]:
-    """The faces normal to axis ``d`` of a block, laid out ``([y,] x)``."""
-    B = lay.block
-    if lay.dim == 1:
-        return (B + 1,)
-    return (B, B + 1) if d == 0 else (B + 1, B)
 
 
 def capacities(H: Hierarchy) -> tuple[tuple[int, ...], tuple[int, ...]]:
@@ -358,12 +350,8 @@ class _RefinedRun(RunRecord):
 
     def fields(self, H):
         lay, scene = self.layout, self.scene
-        W = primitive(tuple(composite(H, lay)), scene.gamma)
-        W = [np.asarray(a) for a in W]
-        values = {"rho": W[0], "u": W[1], "p": W[-1], "e": W[-1] / ((scene.gamma - 1.0) * W[0])}
-        if lay.dim == 2:
-            values["v"] = W[2]
-        centres = [lay.origin[d] + (np.arange(n) + 0.5) * lay.dx[d] for d, n in enumerate(lay.cells(lay.levels - 1))]
+        values = named_fields(primitive(tuple(composite(H, lay)), scene.gamma), scene.gamma, scene.fields)
+        centres = lay.cell_centres(lay.levels - 1)
         out = scene.output
         pairs = (centres[0], out.x) if lay.dim == 1 else (centres[0], out.x, centres[1], out.y)
         fields = {}

@@ -70,3 +70,20 @@ def failure_sentence(U, gamma, grid, t, n_steps, dt, fluid=None):
             return (f"fv became unstable at t = {t:.6g} s (step {n_steps}): {name} {W[k][where]:.3g} "
                     f"is not positive at {at}.")
     return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."
+
+
+def named_fields(W, gamma, names, solid=None) -> dict:
+    """The schema's fields ``names`` (of rho, u, v, p, e) from the primitive
+    state ``W`` as numpy arrays, NaN in the ``solid`` cells."""
+    W = [np.asarray(a) for a in W]
+    rho, p = W[0], W[-1]
+    values = {"rho": rho, "u": W[1], "p": p, "e": p / ((gamma - 1.0) * rho)}
+    if len(W) == 4:
+        values["v"] = W[2]
+    out = {}
+    for name in names:
+        f = np.array(values[name])
+        if solid is not None:
+            f[solid] = np.nan
+        out[name] = f
+    return out

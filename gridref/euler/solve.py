@@ -15,27 +15,12 @@ from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.immersed import immersed_boundary
 from partmesh.gridref.euler.method import FVSettings
 from partmesh.gridref.euler.refined import solve_refined
-from partmesh.gridref.euler.setup import failure_sentence, inflow_states, initial_state, scheme_for
+from partmesh.gridref.euler.setup import failure_sentence, inflow_states, initial_state, named_fields, scheme_for
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.step import FLOOR, Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from partmesh.gridref.jax_setup import configure_jax
 from partmesh.gridref.revolution import GEOMETRIES, revolved
-
-
-def _fields(W, gamma, names, solid):
-    W = [np.asarray(a) for a in W]
-    rho, p = W[0], W[-1]
-    values = {"rho": rho, "u": W[1], "p": p, "e": p / ((gamma - 1.0) * rho)}
-    if len(W) == 4:
-        values["v"] = W[2]
-    out = {}
-    for name in names:
-        f = np.array(values[name])
-        if solid is not None:
-            f[solid] = np.nan
-        out[name] = f
-    return out
 
 
 def solve(scene, settings: FVSettings):
@@ -112,7 +97,7 @@ class _Run(RunRecord):
     def fields(self, state):
         U, floors = state
         self.floors = np.asarray(floors)
-        return _fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
+        return named_fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
 
     def totals(self, state) -> dict:
         """Mass and energy in the gas (the open part of every cell; of
