@@ -22,6 +22,9 @@ inside: its ``g`` has the opposite sign, as its velocity has.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import jax.numpy as jnp
 import numpy as np
 
 #: geometry name -> k, the power of r in the face areas
@@ -53,3 +56,69 @@ def revolved(shape: tuple[int, ...], dr: float, k: int) -> np.ndarray | float:
     if k == 0:
         return 1.0
     return REVOLUTION[k] * np.broadcast_to(cell_volumes(0, shape[-1], dr, k), shape)
+
+
+class Rings(NamedTuple):
+    """The geometry of revolution a step of a batch of cells reads, for
+    cells at any global radial indices (a whole grid, or blocks laid side
+    by side): ``hoop``, ``g`` of the cells of the step's interior and one
+    ghost layer (the predictor's cells); ``areas``, ``a_f`` of the radial
+    faces of the interior; ``volumes``, ``v`` of the interior's cells;
+    ``crowding``, the CFL rate's factor of every interior cell,
+    ``max(1, (a_{i−1/2} + a_{i+1/2}) / (2 v_i))``."""
+
+    hoop: np.ndarray
+    areas: np.ndarray
+    volumes: np.ndarray
+    crowding: np.ndarray
+
+
+class RadialTable:
+    """``a``, ``v`` and ``g`` of every cell ``i`` of a radial axis of ``n``
+    cells of ``Δr``, and ``ghosts`` cells beyond either end (entry ``i +
+    ghosts``; the face of cell ``i`` is its lower one). Beyond a reflecting
+    outer side (``outer_reflect``) a ghost cell is the mirror image of one
+    inside: its ``g`` has the opposite sign. The values are those of
+    :func:`face_areas`, :func:`cell_volumes` and :func:`hoop` whatever the
+    cells they are read for, so a batch of blocks steps with the very
+    numbers of the whole grid."""
+
+    def __init__(self, n: int, dr: float, k: int, ghosts: int, outer_reflect: bool):
+        self.ghosts, self.k = ghosts, k
+        first, m = -ghosts, n + 2 * ghosts
+        self.areas = face_areas(first, m, dr, k)
+        self.volumes = cell_volumes(first, m, dr, k)
+        self.hoop = hoop(first, m, dr, k)
+        if outer_reflect:
+            inside = self.hoop[ghosts + n - 1: ghosts + n - 1 - ghosts: -1]
+            self.hoop[ghosts + n:] = -inside
+        upper = face_areas(first + 1, m, dr, k)
+        self.crowding = np.maximum(1.0, 0.5 * (self.areas + upper) / self.volumes)
+
+    def volumes_at(self, i):
+        """``v`` of the cells at global indices ``i`` (numpy or JAX)."""
+        return _taken(self.volumes, i + self.ghosts)
+
+    def crowding_at(self, i):
+        """The CFL rate's factor of the cells at global indices ``i``."""
+        return _taken(self.crowding, i + self.ghosts)
+
+    def areas_at(self, i):
+        """``a_f`` of the lower faces of the cells at global indices ``i``."""
+        return _taken(self.areas, i + self.ghosts)
+
+    def rings(self, i) -> Rings:
+        """The :class:`Rings` of a step whose interior and one ghost layer
+        are the cells at global radial indices ``i`` (numpy or JAX integers,
+        laid out ``([y,] x)`` or along x alone)."""
+        inner = (slice(1, -1),) * i.ndim
+        faces = inner[:-1] + (slice(1, None),)
+        return Rings(hoop=_taken(self.hoop, i + self.ghosts), areas=self.areas_at(i[faces]),
+                     volumes=self.volumes_at(i[inner]), crowding=self.crowding_at(i[inner]))
+
+
+def _taken(table: np.ndarray, index):
+    """``table[index]``: numpy for a numpy index, on the device for a JAX one."""
+    if isinstance(index, np.ndarray):
+        return table[index]
+    return jnp.asarray(table)[index]

@@ -15,7 +15,10 @@ size; then the fine blocks' means replace the coarse cells they cover
 (restriction), and every coarse cell next to the fine region has its
 flux through the coarse–fine face replaced by the fine level's flux summed
 over its two steps (refluxing), so the hierarchy conserves mass, momentum
-and energy to round-off. A regrid (:func:`regridded`) sets every level's
+and energy to round-off. In a geometry of revolution (x the radius) every
+mean is weighted by the cells' volumes and every flux by its face's area
+(:mod:`partmesh.gridref.revolution`), so the totals conserved are those of
+the revolved body. A regrid (:func:`regridded`) sets every level's
 blocks from the error estimate of the level below, with a buffer of blocks,
 proper nesting, and the new blocks filled by conservative prolongation.
 """
@@ -31,8 +34,9 @@ import numpy as np
 from partmesh.gridref.amr import blockmaps
 from partmesh.gridref.amr.layout import Layout, coords_of, flat_id
 from partmesh.gridref.amr.sensor import child_maxima, lohner, variation
-from partmesh.gridref.amr.transfer import prolonged, restricted
+from partmesh.gridref.amr.transfer import prolonged, restricted, volume_shift
 from partmesh.gridref.amr.windows import block_origins, gathered, sources
+from partmesh.gridref.revolution import RadialTable
 
 
 class Hierarchy(NamedTuple):
@@ -102,13 +106,27 @@ class Levels:
     ``derefine`` keeps it) and ``gradient`` that of the relative variation
     (kept above ``gradient · derefine / refine``)
     (:mod:`partmesh.gridref.amr.sensor`); ``buffer``: blocks added around
-    the flagged ones."""
+    the flagged ones; ``radial``: the power k of r in the face areas of a
+    geometry of revolution (0: planar)."""
 
     def __init__(self, layout: Layout, n_vars: int, admissible: Callable, sensed: Callable, refine: float,
-                 derefine: float, gradient: float, buffer: int):
+                 derefine: float, gradient: float, buffer: int, radial: int = 0):
         self.layout, self.n_vars = layout, n_vars
         self.admissible, self.sensed = admissible, sensed
         self.refine, self.derefine, self.gradient, self.buffer = refine, derefine, gradient, buffer
+        self.radial = radial
+        #: per level, its radial geometry with two ghost cells beyond either end (None: planar)
+        self.tables = [RadialTable(layout.cells(level)[0], layout.spacing(level)[0], radial, 2,
+                                   layout.kinds[1] == "reflect") if radial else None
+                       for level in range(layout.levels)]
+
+    def radii(self, level: int, ids, first: int = 0, n: int | None = None):
+        """The global radial (x) indices of the cells ``first … first + n − 1``
+        along x of every block ``ids`` of ``level``: (m, n); ``n`` a block's
+        cells if None."""
+        B = self.layout.block
+        x = coords_of(ids, self.layout.blocks(level), jnp)[0] * B + first
+        return x[:, None] + jnp.arange(B if n is None else n)[None, :]
 
     # --- storage -----------------------------------------------------------------------------------------
     def empty(self, level: int):
@@ -144,7 +162,11 @@ class Levels:
         """``U_coarse`` with the cells under the fine blocks ``ids`` set to
         the means of their children."""
         index = self._footprint_cells(fine, ids)
-        means = [jax.vmap(restricted)(a[ids]) for a in U_fine]
+        if self.radial:
+            volumes = self.tables[fine].volumes_at(self.radii(fine, ids))
+            means = [jax.vmap(restricted)(a[ids], volumes) for a in U_fine]
+        else:
+            means = [jax.vmap(restricted)(a[ids]) for a in U_fine]
         return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
 
     def prolonged_blocks(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
@@ -158,13 +180,20 @@ class Levels:
             before = gathered(old_coarse, src, imposed)
             window = tuple((1.0 - theta) * b + theta * a for a, b in zip(window, before))
         # (batched with vmap: tiled side by side, 2.3x slower on these small windows, measured)
-        return jax.vmap(lambda w: prolonged(w, self.admissible))(window)
+        if not self.radial:
+            return jax.vmap(lambda w: prolonged(w, self.admissible))(window)
+        volumes = self.tables[fine].volumes_at(self.radii(fine, ids))
+        shift = volume_shift(volumes[:, 0::2], volumes[:, 1::2])
+        return jax.vmap(lambda w, c: prolonged(w, self.admissible, c))(window, shift)
 
     def refluxed(self, U_coarse, flux_coarse, register, maps_fine, fine: int, ids, count):
         """``U_coarse`` with every coarse cell next to a fine block of ``ids``
         (across a face whose fine neighbour is not active) corrected by the
         fine fluxes summed over the pair of fine steps, in place of its own
-        (Berger & Colella 1989, §3.4)."""
+        (Berger & Colella 1989, §3.4). Of revolution, the two fine faces
+        over a coarse face normal to z weigh as their cells' volumes, and a
+        correction through a face normal to r is weighted by its area over
+        the coarse cell's volume."""
         lay, half = self.layout, self.layout.block // 2
         nb_f, cells_c = lay.blocks(fine), lay.cells(fine - 1)
         dx_c = lay.spacing(fine - 1)
@@ -188,9 +217,14 @@ class Levels:
                 face = jnp.mod(face, cells_c[d])
                 fine_sum = [r[:, side] for r in register[d]]  # (n[, B]) per variable
                 if lay.dim == 2:
-                    fine_sum = [0.5 * (f[:, 0::2] + f[:, 1::2]) for f in fine_sum]  # two fine faces per coarse face
                     other = 1 - d
                     along = coords[other][:, None] * half + lanes[None, :]
+                    if self.radial and d == 1:  # the two fine faces' areas: their cells' volumes
+                        v = self.tables[fine].volumes_at(2 * along[:, :, None] + jnp.arange(2))
+                        w = v / jnp.sum(v, axis=-1, keepdims=True)
+                        fine_sum = [w[..., 0] * f[:, 0::2] + w[..., 1] * f[:, 1::2] for f in fine_sum]
+                    else:
+                        fine_sum = [0.5 * (f[:, 0::2] + f[:, 1::2]) for f in fine_sum]  # two fine faces a coarse face
                     at = [None, None]
                     at[d], at[other] = jnp.broadcast_to(face[:, None], along.shape), along
                     coarse_flux = _face_values(lay, fine - 1, flux_coarse[d], d, at)
@@ -203,6 +237,10 @@ class Levels:
                     index = lay.cell_index(fine - 1, [cell])
                     mask = open_
                 sign = (1.0 if side else -1.0) / dx_c[d]
+                if self.radial and d == 0:  # the face's area over the coarse cell's volume
+                    table = self.tables[fine - 1]
+                    sign = sign * table.areas_at(face) / table.volumes_at(cell)
+                    sign = sign[:, None] if lay.dim == 2 else sign
                 index = jnp.where(mask, index, U_coarse[0].size)
                 U_coarse = tuple(u.ravel().at[index].add(sign * (f - c), mode="drop").reshape(u.shape)
                                  for u, f, c in zip(U_coarse, fine_sum, coarse_flux))

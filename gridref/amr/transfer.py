@@ -1,7 +1,8 @@
 """Moving a state between levels of ratio 2, conserving it.
 
 Restriction (fine → coarse): a coarse cell takes the mean of its ``2^dim``
-children, so a level's total is unchanged (Berger & Colella 1989, §3.3).
+children, so a level's total is unchanged (Berger & Colella 1989, §3.3);
+in a geometry of revolution the mean weighted by the children's volumes.
 
 Prolongation (coarse → fine): each child takes its parent's value plus the
 parent's limited slope times the offset of its centre, ±¼ of the parent's
@@ -11,7 +12,11 @@ the monotonized central limiter (van Leer 1977), so no child leaves the
 range of its parent's neighbours (conservative limited linear
 interpolation, as AMReX's ``cell_cons_interp``). A parent whose children
 would not all be admissible (``admissible``: for a gas, positive density
-and pressure) passes its own value to every child instead.
+and pressure) passes its own value to every child instead. In a geometry
+of revolution the two children along the radius differ in volume,
+``v_l < v_r``: their offsets become ``±¼ − c`` with
+``c = (v_r − v_l) / (4 (v_l + v_r))``, so that their volume-weighted mean
+is still the parent's value (``|c| < ¼``: no child leaves the range).
 """
 
 from __future__ import annotations
@@ -38,18 +43,30 @@ def _doubled(a):
     return repeated(a, 2)
 
 
-def _offsets(n: int, axis: int, ndim: int):
-    """The children's offsets ±¼ along ``axis`` of an array of ``n`` children there."""
+def _offsets(n: int, axis: int, ndim: int, shift=None):
+    """The children's offsets ±¼ along ``axis`` of an array of ``n`` children
+    there, less each parent's ``shift`` (``n/2`` values; none if None)."""
     shape = [1] * ndim
     shape[axis] = n
-    return jnp.tile(jnp.array([-0.25, 0.25]), n // 2).reshape(shape)
+    offsets = jnp.tile(jnp.array([-0.25, 0.25]), n // 2)
+    if shift is not None:
+        offsets = offsets - jnp.repeat(shift, 2)
+    return offsets.reshape(shape)
 
 
-def prolonged(window, admissible=None):
+def volume_shift(v_lo, v_hi):
+    """``c = (v_r − v_l) / (4 (v_l + v_r))``: the shift of the offsets of two
+    children of volumes ``v_lo``, ``v_hi`` along the radius that keeps
+    their volume-weighted mean the parent's value."""
+    return (v_hi - v_lo) / (4.0 * (v_lo + v_hi))
+
+
+def prolonged(window, admissible=None, shift=None):
     """The children of the interior cells of a coarse ``window`` (a tuple
     over variables of arrays with one ghost cell on every side, laid out
     ``([y,] x)``, of any shape): arrays twice the interior's size along
-    every axis."""
+    every axis. ``shift``: per interior parent along x, the shift of its
+    children's offsets along x (:func:`volume_shift`; None: planar)."""
     ndim = window[0].ndim
     inner = [_crop_all(a) for a in window]
     slopes = []
@@ -60,7 +77,9 @@ def prolonged(window, admissible=None):
             per_axis.append(monotonized_central(_crop(others, axis, 1, 1) - _crop(others, axis, 0, 2),
                                                 _crop(others, axis, 2, 0) - _crop(others, axis, 1, 1)))
         slopes.append(per_axis)
-    linear = [_doubled(c) + sum(_doubled(s) * _offsets(2 * c.shape[axis], axis, ndim)
+    radial = ndim - 1  # x, the radius in a geometry of revolution
+    linear = [_doubled(c) + sum(_doubled(s) * _offsets(2 * c.shape[axis], axis, ndim,
+                                                      shift if axis == radial else None)
                                 for axis, s in enumerate(per_axis))
               for c, per_axis in zip(inner, slopes)]
     if admissible is None:
@@ -87,10 +106,17 @@ def _crop_others(a, axis):
     return a
 
 
-def restricted(block):
+def restricted(block, volumes=None):
     """The means of the ``2^dim`` children of every coarse cell over a fine
-    ``block`` (an array laid out ``([y,] x)``): half its size along every axis."""
+    ``block`` (an array laid out ``([y,] x)``): half its size along every
+    axis; weighted by the ``volumes`` of the block's cells along x (None:
+    planar, equal)."""
     shape = []
     for n in block.shape:
         shape += [n // 2, 2]
-    return jnp.mean(block.reshape(shape), axis=tuple(range(1, 2 * block.ndim, 2)))
+    children = tuple(range(1, 2 * block.ndim, 2))
+    if volumes is None:
+        return jnp.mean(block.reshape(shape), axis=children)
+    pairs = volumes.reshape(-1, 2)
+    weights = pairs / (jnp.sum(pairs, axis=1, keepdims=True) * 2 ** (block.ndim - 1))
+    return jnp.sum(block.reshape(shape) * weights, axis=children)

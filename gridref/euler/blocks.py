@@ -6,7 +6,9 @@ chunks of blocks laid side by side (:mod:`partmesh.gridref.amr.tiling`),
 with the same a-posteriori positivity
 fallback and vacuum floors as a uniform grid
 (:func:`~partmesh.gridref.euler.step.with_fallbacks`): a hierarchy whose
-every block is active steps exactly as the uniform grid does.
+every block is active steps exactly as the uniform grid does. In a
+geometry of revolution every cell of a chunk reads the face areas, volume
+and hoop term of its global radius (:class:`~partmesh.gridref.revolution.RadialTable`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_update, half_step, slopes_of,
                                          stable_dt, vacuum_floored, with_fallbacks)
 from partmesh.gridref.grid import cropped
+from partmesh.gridref.revolution import REVOLUTION
 from partmesh.gridref.staging import staged
 
 
@@ -58,6 +61,40 @@ class LevelStepper:
         self.levels, self.layout = levels, levels.layout
         self.schemes = [replace(scheme, dx=self.layout.spacing(level)) for level in range(self.layout.levels)]
         self.gamma = scheme.gamma
+        self.tables = levels.tables  # (two ghost cells beyond either end: N_GHOST)
+
+    def crowding(self, level: int, ids):
+        """The CFL rate's factor of revolution of every cell of the blocks
+        ``ids`` of ``level`` (None when planar)."""
+        table = self.tables[level]
+        if table is None:
+            return None
+        x = self.levels.radii(level, ids)
+        return table.crowding_at(x if self.layout.dim == 1 else x[:, None, :])
+
+    def volumes(self, level: int, ids):
+        """The volume of every cell of the blocks ``ids`` of ``level`` [m³ per
+        metre depth in planar 2D, m per square metre in 1D; of revolution,
+        the whole ring]."""
+        volume = float(np.prod(self.layout.spacing(level)))
+        table = self.tables[level]
+        if table is None:
+            return volume
+        x = self.levels.radii(level, ids)
+        return volume * REVOLUTION[self.levels.radial] * table.volumes_at(x if self.layout.dim == 1 else x[:, None, :])
+
+    def _tiled_rings(self, level: int, ids, rows: int):
+        """The :class:`~partmesh.gridref.revolution.Rings` of the chunk of
+        blocks ``ids`` tiled side by side (None when planar)."""
+        table, lay = self.tables[level], self.layout
+        if table is None:
+            return None
+        h = lay.block + 2 * N_GHOST
+        x = self.levels.radii(level, ids, -N_GHOST, h)
+        if lay.dim == 2:
+            x = jnp.broadcast_to(x[:, None, :], (x.shape[0], h, h))
+        x = tiled(x, rows)
+        return table.rings(x[(slice(1, -1),) * x.ndim])
 
     def step(self, H: Hierarchy, level: int, dt, imposed):
         lay, scheme, gamma, levels = self.layout, self.schemes[level], self.gamma, self.levels
@@ -74,26 +111,31 @@ class LevelStepper:
 
         def chunk(c, allowed):
             """The step of the ``K`` blocks of chunk ``c``, tiled side by side."""
-            src = self._tiled_sources(level, jax.lax.dynamic_slice(ids, (c * K,), (K,)), N_GHOST, rows)
+            chunk_ids = jax.lax.dynamic_slice(ids, (c * K,), (K,))
+            src = self._tiled_sources(level, chunk_ids, N_GHOST, rows)
+            rings = self._tiled_rings(level, chunk_ids, rows)
             Ug = staged(lambda U, imposed: gathered(U, src, imposed), gate)(H.U[level], imposed)
             Wg = staged(lambda Ug: primitive(Ug, gamma), gate)(Ug)
             slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
             allowed = staged(lambda a: _tiled_ring(a, rows), gate)(allowed)
-            Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed), gate)(Wg, slopes, allowed)
+            Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
+                Wg, slopes, allowed)
             fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                       for d in range(lay.dim)]
 
             def updated(Ug, F, Wh, ok):
                 inner = tuple(cropped(u, scheme.axes, N_GHOST) for u in Ug)
-                U_new = flux_update(inner, F, dt, scheme, Wh)[0]
+                U_new = flux_update(inner, F, dt, scheme, Wh, rings=rings)[0]
                 return (tuple(windowed(u, rows, K, h, lay.block_shape) for u in U_new),
                         [tuple(windowed(f, rows, K, h, faces[d]) for f in Fd) for d, Fd in enumerate(F)],
                         windowed(ok, rows, K, h, ring))
 
             return staged(updated, gate)(Ug, fluxes, Wh, ok)
 
+        crowding = self.crowding(level, ids)
+
         def cfl_dt(U):
-            return stable_dt(U, gamma, scheme.dx, scheme.cfl, fluid)
+            return stable_dt(U, gamma, scheme.dx, scheme.cfl, fluid, crowding)
 
         def attempt(allowed):
             pools = (tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0),
@@ -112,10 +154,11 @@ class LevelStepper:
             return staged(lambda ok, U_new: self._second_order_allowed(ok, U_new, level, ids, fluid), gate)(
                 ok, U_new)
 
+        volume = self.volumes(level, ids)
+
         def floored(U):
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
-            volume = float(np.prod(scheme.dx))
-            return U, cfl_dt(U), cells, jnp.sum(mass) * volume, jnp.sum(energy) * volume
+            return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
         start = (U0, jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
         (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
@@ -173,7 +216,8 @@ class LevelStepper:
     def _side_forces(self, H, level, ids, valid, fluxes):
         """The normal momentum flux through the level's faces on every side
         of the domain (x_lo, x_hi[, y_lo, y_hi]) that no finer level covers,
-        times their area (per metre depth in 2D, per square metre in 1D)."""
+        times their area (per metre depth in 2D, per square metre in 1D; of
+        revolution, the whole revolved side)."""
         lay = self.layout
         nb = lay.blocks(level)
         coords = coords_of(ids, nb, jnp)
@@ -181,6 +225,7 @@ class LevelStepper:
         if level < lay.levels - 1:
             open_ = open_ & ~_covered(H.maps[level + 1], ids, lay, level)
         dx = lay.spacing(level)
+        table, k = self.tables[level], self.levels.radial
         forces = []
         for d in range(lay.dim):
             momentum = _boundary_faces(fluxes[d][1 + d], d, lay.dim)  # (n, 2[, B])
@@ -189,7 +234,14 @@ class LevelStepper:
             for side, at_side in ((0, coords[d] == 0), (1, coords[d] == nb[d] - 1)):
                 m = momentum[:, side]
                 mask = edge[:, side] & at_side.reshape((-1,) + (1,) * (m.ndim - 1))
-                forces.append(jnp.sum(jnp.where(mask, m, 0.0)) * area)
+                if table is None:
+                    forces.append(jnp.sum(jnp.where(mask, m, 0.0)) * area)
+                    continue
+                # the revolved side: each face's area (a side normal to r), or its cell's ring (normal to z)
+                ring = (table.areas_at(coords[0] * lay.block + side * lay.block)[:, None] if d == 0
+                        else table.volumes_at(self.levels.radii(level, ids)))
+                weight = REVOLUTION[k] * area * (ring if lay.dim == 2 else ring[:, 0])
+                forces.append(jnp.sum(jnp.where(mask, m * weight, 0.0)))
         return jnp.stack(forces)
 
 

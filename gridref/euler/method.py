@@ -47,10 +47,9 @@ class FVSettings(Settings):
             return
         if self.derefine > self.refine:
             raise InputError(f"derefine must not exceed refine ({self.refine:g}), got {self.derefine:g}.")
-        if scene.geometry != "planar" or scene.obstacles:
-            what = f"{scene.geometry} scenes" if scene.geometry != "planar" else "scenes with obstacles"
-            raise InputError(f"levels > 1 runs planar scenes without obstacles for now, and {scene.name} is one of the "
-                             f"{what}: use levels = 1.")
+        if scene.obstacles:
+            raise InputError(f"levels > 1 runs scenes without obstacles for now, and {scene.name} has "
+                             f"{len(scene.obstacles)}: use levels = 1.")
         layout_for(scene.domain, self.dx, self.levels, boundary_kinds(scene), self.block)
 
 

@@ -42,6 +42,7 @@ from partmesh.gridref.euler.state import conservative, primitive
 from partmesh.gridref.euler.step import FLOOR, Scheme, stable_dt
 from partmesh.gridref.grid import solver_grid
 from partmesh.gridref.jax_setup import configure_jax
+from partmesh.gridref.revolution import GEOMETRIES
 
 
 class Refined:
@@ -53,13 +54,14 @@ class Refined:
         self.layout = lay = layout_for(scene.domain, settings.dx, settings.levels, boundary_kinds(scene),
                                        settings.block)
         self.n_vars, L = lay.dim + 2, lay.levels
+        radial = GEOMETRIES[scene.geometry]
         scheme = Scheme(gamma=self.gamma, dx=lay.dx, kinds=lay.kinds, limiter=settings.limiter,
-                        riemann=settings.riemann, cfl=settings.cfl)
+                        riemann=settings.riemann, cfl=settings.cfl, radial=radial)
         #: blocks added around the flagged ones: a front moves at most cfl cells a step on every level, and a
         #: level l takes 2^l steps between two regrids
         buffer = max(1, math.ceil(settings.cfl * (1 << (L - 1)) / lay.block))
         self.levels = Levels(lay, self.n_vars, admissible(self.gamma), sensed(self.gamma), settings.refine,
-                             settings.derefine, settings.gradient, buffer)
+                             settings.derefine, settings.gradient, buffer, radial)
         self.stepper = LevelStepper(self.levels, scheme)
         self.forced = (tuple(jnp.ones(lay.blocks(level)[::-1], bool) for level in range(L)) if forced_finest
                        else None)
@@ -121,8 +123,8 @@ class Refined:
             U = self.levels.blocks_of(H.U[level], ids)
             valid = (jnp.arange(ids.shape[0]) < count).reshape((-1,) + (1,) * self.layout.dim)
             fluid = jnp.broadcast_to(valid, U[0].shape)
-            dts.append(stable_dt(U, self.gamma, self.layout.spacing(level), self.stepper.schemes[level].cfl, fluid)
-                       * (1 << level))
+            dts.append(stable_dt(U, self.gamma, self.layout.spacing(level), self.stepper.schemes[level].cfl, fluid,
+                                 self.stepper.crowding(level, ids)) * (1 << level))
         return jnp.min(jnp.stack(dts))
 
     # --- the initial hierarchy -----------------------------------------------------------------------
@@ -361,10 +363,14 @@ class _RefinedRun(RunRecord):
         return fields
 
     def totals(self, H) -> dict:
-        """Mass and energy of the hierarchy: level 0 holds the means of
-        every finer level over the cells they cover."""
-        cell = float(np.prod(self.layout.spacing(0)))
-        return {name: float(np.sum(np.asarray(H.U[0][i]))) * cell for name, i in (("mass", 0), ("energy", -1))}
+        """Mass and energy of the hierarchy (of revolution, the whole
+        revolved body): level 0 holds the means of every finer level over
+        the cells they cover."""
+        volume = np.asarray(self.refined.stepper.volumes(0, jnp.arange(self.layout.n_blocks(0))))
+        if volume.ndim == 0:  # planar: every cell alike
+            return {name: float(np.sum(np.asarray(H.U[0][i]))) * float(volume)
+                    for name, i in (("mass", 0), ("energy", -1))}
+        return {name: float(np.sum(np.asarray(H.U[0][i]) * volume)) for name, i in (("mass", 0), ("energy", -1))}
 
     def output(self):
         lay, s = self.layout, self.settings

@@ -43,7 +43,7 @@ from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
 from partmesh.gridref.euler.state import primitive, rotated, sound_speed
 from partmesh.gridref.grid import cropped
-from partmesh.gridref.revolution import REVOLUTION, cell_volumes, face_areas, hoop, revolved
+from partmesh.gridref.revolution import REVOLUTION, RadialTable, Rings, revolved
 from partmesh.gridref.staging import staged
 
 
@@ -65,21 +65,19 @@ def primitive_change(W, dW, d, gamma):
     return (un * dW[0] + rho * dun, *dvel, un * dp + gamma * p * dun)
 
 
-def stable_dt(U, gamma, dx, cfl, fluid=None, radial=0):
+def stable_dt(U, gamma, dx, cfl, fluid=None, crowding=None):
     """CFL time step ``Δt = C / max_cells Σ_d (|u_d| + c)/Δx_d``; NaN if the
     fluid holds NaN, negative density or negative pressure (the caller
-    reports where). In a geometry of revolution (``radial`` = k) the radial
-    rate of a cell is raised by the ratio of its faces' mean area to its
+    reports where). In a geometry of revolution the radial rate of a cell
+    is raised by its ``crowding``, the ratio of its faces' mean area to its
     volume, ``max(1, (a_{i−1/2} + a_{i+1/2}) / (2 v_i))``
-    (:mod:`partmesh.gridref.revolution`): 1.5 at a sphere's centre, where a
-    step of C = 0.8 is unstable, and 1 in every cell of a cylinder (k = 1)."""
+    (:class:`partmesh.gridref.revolution.Rings`): 1.5 at a sphere's centre,
+    where a step of C = 0.8 is unstable, and 1 in every cell of a cylinder
+    (k = 1)."""
     W = primitive(U, gamma)
     c = sound_speed(W, gamma)
     rate = sum((jnp.abs(W[1 + d]) + c) * (1.0 / dx[d]) for d in range(len(dx)))
-    if radial:
-        n = W[0].shape[-1]
-        a = face_areas(0, n + 1, dx[0], radial)
-        crowding = np.maximum(1.0, 0.5 * (a[:-1] + a[1:]) / cell_volumes(0, n, dx[0], radial))
+    if crowding is not None:
         rate = rate + (jnp.abs(W[1]) + c) * ((crowding - 1.0) / dx[0])
     bad = ~(W[0] > 0.0) | ~(W[-1] > 0.0) | ~jnp.isfinite(rate)
     if fluid is not None:
@@ -102,6 +100,20 @@ class Scheme(SchemeAxes):
     #: the distance r from the axis at x = 0, y is z), 2 spherical (1D, x is the distance from the centre)
     radial: int = 0
 
+    def table(self, n: int) -> RadialTable | None:
+        """The radial geometry of a radius of ``n`` cells of this scheme's
+        spacing, ghosts included (None when planar)."""
+        if not self.radial:
+            return None
+        return RadialTable(n, self.dx[0], self.radial, N_GHOST, self.kinds[1] == "reflect")
+
+
+def grid_rings(scheme: Scheme, n: int) -> Rings | None:
+    """The :class:`~partmesh.gridref.revolution.Rings` of a whole grid of
+    ``n`` cells along the radius (None when planar)."""
+    table = scheme.table(n)
+    return None if table is None else table.rings(np.arange(-1, n + 1))
+
 
 def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):
     """Primitive state with solid ghost cells filled and ``N_GHOST`` boundary
@@ -123,9 +135,10 @@ def slopes_of(Wg, scheme: Scheme):
     ]
 
 
-def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
+def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None, rings: Rings | None = None):
     """``(W^{n+1/2}, ok)``: the predictor on the interior plus one ghost
-    layer (with the geometric terms of a geometry of revolution), and the
+    layer (with the geometric terms of a geometry of revolution, whose
+    ``rings`` the cells are), and the
     mask of cells whose face states are physical and
     ``allowed`` (elsewhere ``W^{n+1/2} = W`` and the slopes are ignored: the
     cell is first order)."""
@@ -134,9 +147,7 @@ def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None):
     changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
     rates = [sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k in range(len(Wc))]
     if scheme.radial:  # the geometric terms −g ρ u_r and −g γ p u_r (cells −1 … n of the interior)
-        g = hoop(-1, Wc[0].shape[-1], dx[0], scheme.radial)
-        if scheme.kinds[1] == "reflect":  # the ghost beyond the outer wall predicts its mirror's image
-            g[-1] = -g[-2]
+        g = rings.hoop
         rates[0] = rates[0] + g * Wc[0] * Wc[1]
         rates[-1] = rates[-1] + g * gamma * Wc[-1] * Wc[1]
     Wh = tuple(w - (0.5 * dt) * rate for w, rate in zip(Wc, rates))
@@ -209,13 +220,13 @@ def second_order_allowed(ok, U_new, gamma):
     return ok & ~_dilated(jnp.pad(bad, 1))
 
 
-def flux_divergence(fluxes, scheme: Scheme, apertures=None):
+def flux_divergence(fluxes, scheme: Scheme, apertures=None, rings: Rings | None = None):
     """``(D, side_forces)``: the flux divergence ``Σ_d (α F_{d,i+1/2} −
     α F_{d,i−1/2})/Δx_d`` of every cell from the face fluxes of every
     direction, with the faces' open fractions ``apertures`` (one array per
     direction; all open if None); in a geometry of revolution the radial
     faces weighted by their area and the difference divided by the cell's
-    volume (:mod:`partmesh.gridref.revolution`).
+    volume (the cells' ``rings``, :mod:`partmesh.gridref.revolution`).
 
     ``side_forces[i]`` is the normal momentum flux integrated over side
     ``i`` (planar: per metre depth in 2D, per square metre in 1D; of
@@ -231,59 +242,59 @@ def flux_divergence(fluxes, scheme: Scheme, apertures=None):
         n = F[0].shape[axes[d]]
         inv_dx = 1.0 / dx[d]
         if k and d == 0:
-            area = face_areas(0, n, dx[0], k)
-            inv_dx = inv_dx / cell_volumes(0, n - 1, dx[0], k)
-            F = tuple(f * area for f in F)
+            inv_dx = inv_dx / rings.volumes
+            F = tuple(f * rings.areas for f in F)
         divergence = [acc + (_shifted(f, axes[d], False) - _shifted(f, axes[d], True)) * inv_dx
                       for acc, f in zip(divergence, F)]
         momentum = F[1 + d]
         area = 1.0 if dim == 1 else dx[1 - d]
         if k:  # the whole turn, and along the radius each face's mean radius (a radial side's is in F already)
-            area = REVOLUTION[k] * area * (1.0 if d == 0 else cell_volumes(0, momentum.shape[-1], dx[0], k))
+            area = REVOLUTION[k] * area * (1.0 if d == 0 else rings.volumes)
             forces += [jnp.sum(jnp.take(momentum, i, axis=axes[d]) * area) for i in (0, n - 1)]
         else:
             forces += [jnp.sum(jnp.take(momentum, i, axis=axes[d])) * area for i in (0, n - 1)]
     return divergence, jnp.stack(forces)
 
 
-def hoop_source(Wh, scheme: Scheme):
+def hoop_source(Wh, scheme: Scheme, rings: Rings):
     """The pressure's source ``p g`` of the radial momentum in a geometry of
     revolution (zero arrays on the other components; ``Wh`` the half-step
-    state on the interior plus one ghost layer), which D carries with a
-    minus sign (:mod:`partmesh.gridref.revolution`)."""
+    state on the interior plus one ghost layer, the cells' ``rings``), which
+    D carries with a minus sign (:mod:`partmesh.gridref.revolution`)."""
     p = cropped(Wh[-1], scheme.axes)
     source = [jnp.zeros_like(p) for _ in Wh]
-    source[1] = p * hoop(0, p.shape[-1], scheme.dx[0], scheme.radial)
+    source[1] = p * rings.hoop[(slice(1, -1),) * rings.hoop.ndim]
     return source
 
 
-def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None):
+def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None, rings: Rings | None = None):
     """``(U^{n+1}, side_forces)`` from the face fluxes of every direction
-    (:func:`flux_divergence`); with an ``immersed`` boundary, the cut-cell
+    (:func:`flux_divergence`; of revolution, on cells of ``rings``); with
+    an ``immersed`` boundary, the cut-cell
     update with its walls' pressure from the half-step state ``Wh`` (the
     interior plus one ghost layer) and flux redistribution
     (:mod:`partmesh.gridref.euler.immersed`)."""
     if immersed is None:
-        divergence, forces = flux_divergence(fluxes, scheme)
+        divergence, forces = flux_divergence(fluxes, scheme, rings=rings)
         if scheme.radial:
-            divergence = [div - s for div, s in zip(divergence, hoop_source(Wh, scheme))]
+            divergence = [div - s for div, s in zip(divergence, hoop_source(Wh, scheme, rings))]
         return tuple(u - dt * div for u, div in zip(U, divergence)), forces
-    divergence, forces = cut_cell_divergence(fluxes, Wh, scheme, immersed)
+    divergence, forces = cut_cell_divergence(fluxes, Wh, scheme, immersed, rings)
     return immersed.advanced(U, divergence, dt), forces
 
 
-def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed):
+def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed, rings: Rings | None = None):
     """``(D, side_forces)``: the right-hand side of the cut-cell update,
     the faces' fluxes through their open fractions plus the walls'
     pressure from the half-step state ``Wh`` (the interior plus one ghost
     layer), per full cell volume; of revolution, less the hoop source of
     the cell's open part (which the wall vector balances for a gas at rest)."""
-    divergence, forces = flux_divergence(fluxes, scheme, immersed.apertures)
+    divergence, forces = flux_divergence(fluxes, scheme, immersed.apertures, rings)
     W = tuple(cropped(a, scheme.axes) for a in Wh)
     walls = immersed.wall_divergence(W, scheme.gamma, scheme.riemann)
     divergence = [d + w for d, w in zip(divergence, walls)]
     if scheme.radial:  # the hoop source of the open part of each cell
-        divergence = [d - immersed.volume * s for d, s in zip(divergence, hoop_source(Wh, scheme))]
+        divergence = [d - immersed.volume * s for d, s in zip(divergence, hoop_source(Wh, scheme, rings))]
     return divergence, forces
 
 
@@ -351,7 +362,8 @@ class Stepper:
         open_fraction = 1.0 if immersed is None else immersed.volume
 
         def cfl_dt(U):
-            return stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid, scheme.radial)
+            rings = grid_rings(scheme, U[0].shape[-1])
+            return stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid, None if rings is None else rings.crowding)
         fill_solids = None if immersed is None else immersed.fill
         no_inflow = jnp.zeros((2 * scheme.dim, scheme.dim + 2))
         inflow = inflow or (lambda t: no_inflow)
@@ -361,11 +373,13 @@ class Stepper:
             return U_new, cfl_dt(U_new), forces, probes
 
         def update(U, F, Wh, dt, gate):
+            rings = grid_rings(scheme, U[0].shape[-1])
             if immersed is None:
-                return staged(lambda U, F, Wh, dt: checked(*flux_update(U, F, dt, scheme, Wh)), gate)(U, F, Wh, dt)
+                return staged(lambda U, F, Wh, dt: checked(*flux_update(U, F, dt, scheme, Wh, rings=rings)), gate)(
+                    U, F, Wh, dt)
             # the cut-cell update in three stages: its right-hand side, the redistribution (which reads
             # the right-hand side of every neighbour), the reset of the solid cells with the checks
-            D, forces = staged(lambda F, Wh: cut_cell_divergence(F, Wh, scheme, immersed), gate)(F, Wh)
+            D, forces = staged(lambda F, Wh: cut_cell_divergence(F, Wh, scheme, immersed, rings), gate)(F, Wh)
             U_new = staged(lambda U, D, dt: immersed.advanced(U, D, dt), gate)(U, D, dt)
             return staged(lambda U_new, forces: checked(immersed.reset(U_new, solid_state), forces), gate)(U_new,
                                                                                                          forces)
@@ -381,8 +395,11 @@ class Stepper:
             Wg = staged(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids), gate)(U, inflow(t))
             slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
 
+            rings = grid_rings(scheme, U[0].shape[-1])
+
             def attempt(allowed):
-                Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed), gate)(Wg, slopes, allowed)
+                Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
+                    Wg, slopes, allowed)
                 fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                           for d in range(scheme.dim)]
                 return update(U, fluxes, Wh, dt, gate), ok
