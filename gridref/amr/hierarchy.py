@@ -34,6 +34,7 @@ import numpy as np
 from partmesh.gridref.amr import blockmaps
 from partmesh.gridref.amr.layout import Layout, coords_of, flat_id
 from partmesh.gridref.amr.sensor import child_maxima, lohner, variation
+from partmesh.gridref.amr.tiling import over_chunks
 from partmesh.gridref.amr.transfer import prolonged, restricted, volume_shift
 from partmesh.gridref.amr.windows import block_origins, gathered, sources
 from partmesh.gridref.revolution import RadialTable
@@ -158,16 +159,19 @@ class Levels:
         cells = [c * half for c in coords]  # the footprint's first coarse cell per axis
         return _cell_index(lay, fine - 1, cells, half)
 
-    def restricted_into(self, U_coarse, U_fine, fine: int, ids):
-        """``U_coarse`` with the cells under the fine blocks ``ids`` set to
-        the means of their children."""
-        index = self._footprint_cells(fine, ids)
-        if self.radial:
-            volumes = self.tables[fine].volumes_at(self.radii(fine, ids))
-            means = [jax.vmap(restricted)(a[ids], volumes) for a in U_fine]
-        else:
-            means = [jax.vmap(restricted)(a[ids]) for a in U_fine]
-        return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
+    def restricted_into(self, U_coarse, U_fine, fine: int, ids, count):
+        """``U_coarse`` with the cells under the first ``count`` fine blocks
+        of the list ``ids`` set to the means of their children."""
+        def restrict(chunk, U_coarse):
+            index = self._footprint_cells(fine, chunk)
+            if self.radial:
+                volumes = self.tables[fine].volumes_at(self.radii(fine, chunk))
+                means = [jax.vmap(restricted)(a[chunk], volumes) for a in U_fine]
+            else:
+                means = [jax.vmap(restricted)(a[chunk]) for a in U_fine]
+            return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
+
+        return over_chunks(ids, count, restrict, U_coarse)
 
     def prolonged_blocks(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
         """The fine blocks ``ids`` prolonged from the coarser level, whose
@@ -246,45 +250,57 @@ class Levels:
                                  for u, f, c in zip(U_coarse, fine_sum, coarse_flux))
         return U_coarse
 
+    def filled(self, U_fine, U_coarse, old_coarse, theta, fine: int, ids, count, imposed=None):
+        """``U_fine`` with its first ``count`` blocks of the list ``ids``
+        prolonged from the coarser level (:meth:`prolonged_blocks`), a
+        chunk of blocks at a time."""
+        def fill(chunk, U):
+            return self.with_blocks(U, chunk, self.prolonged_blocks(U_coarse, old_coarse, theta, fine, chunk,
+                                                                    imposed))
+
+        return over_chunks(ids, count, fill, U_fine)
+
     def halo_filled(self, H: Hierarchy, fine: int, theta, imposed=None) -> Hierarchy:
         """``H`` with the halo blocks of level ``fine`` prolonged from the
         coarser level at ``(1 − θ) old + θ U`` (θ = 1: ``U`` alone)."""
-        ids, _ = H.halo[fine]
+        ids, count = H.halo[fine]
         old = None if isinstance(theta, float) and theta == 1.0 else H.old[fine - 1]
-        values = self.prolonged_blocks(H.U[fine - 1], old, theta, fine, ids, imposed)
-        return H._replace(U=with_level(H.U, fine, self.with_blocks(H.U[fine], ids, values)))
+        U = self.filled(H.U[fine], H.U[fine - 1], old, theta, fine, ids, count, imposed)
+        return H._replace(U=with_level(H.U, fine, U))
 
     # --- regridding ------------------------------------------------------------------------------------
     def flags(self, U, level: int, ids, count, imposed=None):
         """``(refine, keep)``: block maps of ``level + 1`` whose footprint on
         ``level`` holds a cell whose estimates pass ``refine`` or
         ``gradient`` (to keep: those times ``derefine / refine``), read on
-        the active blocks ``ids``."""
+        the first ``count`` active blocks ``ids``, a chunk at a time."""
         lay = self.layout
-        window = self.windows(U, level, ids, 1, imposed)
-        jumps, slopes = 0.0, 0.0
-        for q in self.sensed(window):  # (batched with vmap: as fast as tiled side by side, measured)
-            jumps = jnp.maximum(jumps, jax.vmap(lohner)(q))
-            slopes = jnp.maximum(slopes, jax.vmap(variation)(q))
-        # the estimate relative to its threshold: above 1 asks for refinement
-        estimate = jnp.maximum(jumps / self.refine, slopes / self.gradient)
-        children = jax.vmap(child_maxima)(estimate)  # (n, 2[, 2]) laid out ([cy,] cx)
-        valid = (jnp.arange(ids.shape[0]) < count).reshape((-1,) + (1,) * lay.dim)
-        coords = coords_of(ids, lay.blocks(level), jnp)
-        offsets = jnp.arange(2)
-        if lay.dim == 1:
-            child = (2 * coords[0][:, None] + offsets[None, :],)
-        else:
-            child = (2 * coords[0][:, None, None] + offsets[None, None, :],
-                     2 * coords[1][:, None, None] + offsets[None, :, None])
         nb = lay.blocks(level + 1)
-        index = jnp.where(valid, flat_id(child, nb), int(np.prod(nb)))
-        shape = nb[::-1]
-        out = []
-        for threshold in (1.0, self.derefine / self.refine):
-            hit = jnp.zeros(int(np.prod(nb)), bool).at[index].set(children > threshold, mode="drop")
-            out.append(hit.reshape(shape))
-        return tuple(out)
+        size = int(np.prod(nb))
+        offsets = jnp.arange(2)
+        thresholds = (1.0, self.derefine / self.refine)
+
+        def flag(chunk, hits):
+            window = self.windows(U, level, chunk, 1, imposed)
+            jumps, slopes = 0.0, 0.0
+            for q in self.sensed(window):  # (batched with vmap: as fast as tiled side by side, measured)
+                jumps = jnp.maximum(jumps, jax.vmap(lohner)(q))
+                slopes = jnp.maximum(slopes, jax.vmap(variation)(q))
+            # the estimate relative to its threshold: above 1 asks for refinement
+            estimate = jnp.maximum(jumps / self.refine, slopes / self.gradient)
+            children = jax.vmap(child_maxima)(estimate)  # (n, 2[, 2]) laid out ([cy,] cx)
+            valid = (chunk < lay.n_blocks(level)).reshape((-1,) + (1,) * lay.dim)  # (the list's padding is not)
+            coords = coords_of(chunk, lay.blocks(level), jnp)
+            if lay.dim == 1:
+                child = (2 * coords[0][:, None] + offsets[None, :],)
+            else:
+                child = (2 * coords[0][:, None, None] + offsets[None, None, :],
+                         2 * coords[1][:, None, None] + offsets[None, :, None])
+            index = jnp.where(valid, flat_id(child, nb), size)
+            return tuple(hit.at[index].set(children > threshold, mode="drop") for hit, threshold in zip(hits, thresholds))
+
+        hits = over_chunks(ids, count, flag, (jnp.zeros(size, bool),) * 2)
+        return tuple(hit.reshape(nb[::-1]) for hit in hits)
 
     def regridded(self, H: Hierarchy, imposed=None, forced: tuple | None = None,
                   fill: bool = True) -> tuple[Hierarchy, jnp.ndarray]:
@@ -324,9 +340,8 @@ class Levels:
             U = list(H.U)
             for level in range(1, L if fill else 1):
                 fresh = maps[level] & ~H.maps[level]
-                ids, _ = blockmaps.listed(fresh, active[level][0].shape[0])
-                U[level] = self.with_blocks(U[level], ids, self.prolonged_blocks(U[level - 1], None, 1.0, level, ids,
-                                                                                 imposed))
+                ids, count = blockmaps.listed(fresh, active[level][0].shape[0])
+                U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, count, imposed)
             counts = jnp.stack([a[1] for a in active])
             peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
             return H._replace(U=tuple(U), active=tuple(active), halo=tuple(halo), maps=tuple(maps), need=need,

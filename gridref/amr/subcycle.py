@@ -80,7 +80,7 @@ class Subcycler:
         H, records, n, dt_next = jax.lax.fori_loop(0, 2, substep, (H, records, n, dt_next))
         ids, count = H.active[fine]
         levels = self.levels
-        U = levels.restricted_into(H.U[level], H.U[fine], fine, ids)
+        U = levels.restricted_into(H.U[level], H.U[fine], fine, ids, count)
         U = levels.refluxed(U, H.flux[level], H.register[fine], H.maps[fine], fine, ids, count)
         return H._replace(U=with_level(H.U, level, U)), records, n, dt_next
 

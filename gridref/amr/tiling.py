@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+import jax
 import jax.numpy as jnp
 
 
@@ -46,3 +47,29 @@ def windowed(a, rows: int, n: int, h: int, sizes: tuple[int, ...]):
     a = jnp.pad(a, ((0, rows * h - a.shape[0]), (0, cols * h - a.shape[1])))
     a = a.reshape(rows, h, cols, h)[:, : sizes[0], :, : sizes[1]]
     return a.transpose(0, 2, 1, 3).reshape(n, *sizes)
+
+
+#: blocks advanced together (tiled side by side): enough cells for the kernels to run at a whole grid's
+#: speed, few enough that a level with few active blocks does little more than they need
+CHUNK = 32
+
+
+def chunk_for(n: int) -> int:
+    """The blocks of a chunk for a list of ``n`` blocks: the largest divisor
+    of ``n`` up to :data:`CHUNK`."""
+    return max(d for d in range(1, min(n, CHUNK) + 1) if n % d == 0)
+
+
+def over_chunks(ids, count, body, carry):
+    """``carry`` passed through ``body(chunk, carry)`` for every chunk of
+    :func:`chunk_for` ids of the list ``ids`` that holds any of its first
+    ``count`` (a traced number): a loop whose trip count follows the
+    blocks listed, not the list's capacity. The ids past ``count`` in the
+    last chunk are the list's padding (one past the last block), which
+    gathers clamp and scatters drop."""
+    K = chunk_for(ids.shape[0])
+
+    def step(c, carry):
+        return body(jax.lax.dynamic_slice_in_dim(ids, c * K, K), carry)
+
+    return jax.lax.fori_loop(0, (count + K - 1) // K, step, carry)

@@ -21,7 +21,7 @@ import numpy as np
 
 from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, with_level
 from partmesh.gridref.amr.layout import coords_of, flat_id
-from partmesh.gridref.amr.tiling import rows_for, tiled, windowed
+from partmesh.gridref.amr.tiling import chunk_for, rows_for, tiled, windowed
 from partmesh.gridref.amr.windows import Sources, block_origins, gathered, sources
 from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
@@ -243,17 +243,6 @@ class LevelStepper:
                 weight = REVOLUTION[k] * area * (ring if lay.dim == 2 else ring[:, 0])
                 forces.append(jnp.sum(jnp.where(mask, m * weight, 0.0)))
         return jnp.stack(forces)
-
-
-#: blocks advanced together (tiled side by side): enough cells for the kernels to run at a whole grid's
-#: speed, few enough that a level with few active blocks does little more than they need
-CHUNK = 32
-
-
-def chunk_for(n: int) -> int:
-    """The blocks of a chunk for a list of ``n`` blocks: the largest divisor
-    of ``n`` up to :data:`CHUNK`."""
-    return max(d for d in range(1, min(n, CHUNK) + 1) if n % d == 0)
 
 
 def _tiled_ring(a, rows: int):

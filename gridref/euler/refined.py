@@ -147,7 +147,7 @@ class Refined:
                                                                         self._initial_blocks(level, ids))))
         restrict = jax.jit(self.levels.restricted_into, static_argnums=2)
         for level in range(L - 1, 0, -1):
-            coarser = restrict(H.U[level - 1], H.U[level], level, H.active[level][0])
+            coarser = restrict(H.U[level - 1], H.U[level], level, *H.active[level])
             H = H._replace(U=with_level(H.U, level - 1, coarser))
         counts = np.asarray(H.need)
         # lists start with room for a tenth of a level's blocks (and a quarter more, to a power of two): a
