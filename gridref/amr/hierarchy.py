@@ -108,10 +108,13 @@ class Levels:
     (kept above ``gradient · derefine / refine``)
     (:mod:`partmesh.gridref.amr.sensor`); ``buffer``: blocks added around
     the flagged ones; ``radial``: the power k of r in the face areas of a
-    geometry of revolution (0: planar)."""
+    geometry of revolution (0: planar); ``open_fraction``: the finest
+    level's open volume fraction κ around bodies (the level's block-major
+    storage; None: no bodies), from which every coarser level's is the
+    mean, and the restriction weighs every child by it."""
 
     def __init__(self, layout: Layout, n_vars: int, admissible: Callable, sensed: Callable, refine: float,
-                 derefine: float, gradient: float, buffer: int, radial: int = 0):
+                 derefine: float, gradient: float, buffer: int, radial: int = 0, open_fraction=None):
         self.layout, self.n_vars = layout, n_vars
         self.admissible, self.sensed = admissible, sensed
         self.refine, self.derefine, self.gradient, self.buffer = refine, derefine, gradient, buffer
@@ -120,6 +123,8 @@ class Levels:
         self.tables = [RadialTable(layout.cells(level)[0], layout.spacing(level)[0], radial, 2,
                                    layout.kinds[1] == "reflect") if radial else None
                        for level in range(layout.levels)]
+        #: per level, the open volume fraction of every cell (None: no bodies)
+        self.open_fractions = None if open_fraction is None else _coarsened(open_fraction, layout)
 
     def radii(self, level: int, ids, first: int = 0, n: int | None = None):
         """The global radial (x) indices of the cells ``first … first + n − 1``
@@ -164,11 +169,17 @@ class Levels:
         of the list ``ids`` set to the means of their children."""
         def restrict(chunk, U_coarse):
             index = self._footprint_cells(fine, chunk)
+            volumes = None
             if self.radial:
                 volumes = self.tables[fine].volumes_at(self.radii(fine, chunk))
-                means = [jax.vmap(restricted)(a[chunk], volumes) for a in U_fine]
-            else:
+                volumes = volumes if self.layout.dim == 1 else volumes[:, None, :]
+            if self.open_fractions is not None:
+                kappa = jnp.asarray(self.open_fractions[fine])[chunk]
+                volumes = kappa if volumes is None else kappa * volumes
+            if volumes is None:
                 means = [jax.vmap(restricted)(a[chunk]) for a in U_fine]
+            else:
+                means = [jax.vmap(restricted)(a[chunk], volumes) for a in U_fine]
             return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
 
         return over_chunks(ids, count, restrict, U_coarse)
@@ -349,6 +360,21 @@ class Levels:
 
         H = jax.lax.cond(short, lambda H: H._replace(need=need), renewed, H)
         return H, short
+
+
+def _coarsened(finest, lay: Layout) -> list:
+    """Per level, the means over every level's cells of the finest level's
+    block-major field ``finest`` (each coarser cell the mean of its children)."""
+    L, B = lay.levels, lay.block
+    fields = [np.asarray(finest)]
+    for level in range(L - 1, 0, -1):
+        fine = fields[0]
+        nbx, nby = lay.blocks(level)
+        whole = fine.reshape(nby, nbx, B, B).transpose(0, 2, 1, 3).reshape(nby * B, nbx * B)
+        coarse = whole.reshape(nby * B // 2, 2, nbx * B // 2, 2).mean(axis=(1, 3))
+        cx, cy = lay.blocks(level - 1)
+        fields.insert(0, coarse.reshape(cy, B, cx, B).transpose(0, 2, 1, 3).reshape(-1, B, B))
+    return fields
 
 
 def _cell_index(lay: Layout, level: int, first, n: int):

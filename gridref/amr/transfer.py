@@ -2,7 +2,8 @@
 
 Restriction (fine → coarse): a coarse cell takes the mean of its ``2^dim``
 children, so a level's total is unchanged (Berger & Colella 1989, §3.3);
-in a geometry of revolution the mean weighted by the children's volumes.
+in a geometry of revolution and around bodies, the mean weighted by the
+children's (open) volumes.
 
 Prolongation (coarse → fine): each child takes its parent's value plus the
 parent's limited slope times the offset of its centre, ±¼ of the parent's
@@ -109,14 +110,17 @@ def _crop_others(a, axis):
 def restricted(block, volumes=None):
     """The means of the ``2^dim`` children of every coarse cell over a fine
     ``block`` (an array laid out ``([y,] x)``): half its size along every
-    axis; weighted by the ``volumes`` of the block's cells along x (None:
-    planar, equal)."""
+    axis; weighted by the children's ``volumes`` (broadcast to the block:
+    their open volumes around a body, along x their rings in a geometry of
+    revolution; None: all equal), the plain mean where they are all zero."""
     shape = []
     for n in block.shape:
         shape += [n // 2, 2]
     children = tuple(range(1, 2 * block.ndim, 2))
+    mean = jnp.mean(block.reshape(shape), axis=children)
     if volumes is None:
-        return jnp.mean(block.reshape(shape), axis=children)
-    pairs = volumes.reshape(-1, 2)
-    weights = pairs / (jnp.sum(pairs, axis=1, keepdims=True) * 2 ** (block.ndim - 1))
-    return jnp.sum(block.reshape(shape) * weights, axis=children)
+        return mean
+    w = jnp.broadcast_to(volumes, block.shape).reshape(shape)
+    total = jnp.sum(w, axis=children)
+    return jnp.where(total > 0.0, jnp.sum(block.reshape(shape) * w, axis=children) / jnp.where(total > 0.0, total, 1.0),
+                     mean)

@@ -25,8 +25,9 @@ from partmesh.gridref.amr.tiling import chunk_for, rows_for, tiled, windowed
 from partmesh.gridref.amr.windows import Sources, block_origins, gathered, sources
 from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
-from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_update, half_step, slopes_of,
-                                         stable_dt, vacuum_floored, with_fallbacks)
+from partmesh.gridref.euler.cut_blocks import CutBlocks
+from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_divergence, flux_update, half_step,
+                                         slopes_of, stable_dt, vacuum_floored, with_fallbacks)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION
 from partmesh.gridref.staging import staged
@@ -57,8 +58,10 @@ class LevelStepper:
     finer level and the refluxing, and its boundary fluxes added to its
     register (:class:`~partmesh.gridref.amr.hierarchy.Hierarchy`)."""
 
-    def __init__(self, levels: Levels, scheme: Scheme):
+    def __init__(self, levels: Levels, scheme: Scheme, cut: CutBlocks | None = None):
         self.levels, self.layout = levels, levels.layout
+        #: the cut cells of the bodies, on the finest level (:mod:`partmesh.gridref.euler.cut_blocks`)
+        self.cut = cut
         self.schemes = [replace(scheme, dx=self.layout.spacing(level)) for level in range(self.layout.levels)]
         self.gamma = scheme.gamma
         self.tables = levels.tables  # (two ghost cells beyond either end: N_GHOST)
@@ -83,6 +86,16 @@ class LevelStepper:
         x = self.levels.radii(level, ids)
         return volume * REVOLUTION[self.levels.radial] * table.volumes_at(x if self.layout.dim == 1 else x[:, None, :])
 
+    def _tiled_coords(self, level: int, ids, rows: int):
+        """The global cell indices (x, y; unwrapped) of the windows of the
+        blocks ``ids`` with two ghost layers, tiled side by side."""
+        lay, h = self.layout, self.layout.block + 2 * N_GHOST
+        bx, by = coords_of(ids, lay.blocks(level), jnp)
+        lanes = jnp.arange(h) - N_GHOST
+        X = jnp.broadcast_to((bx * lay.block)[:, None, None] + lanes[None, None, :], (ids.shape[0], h, h))
+        Y = jnp.broadcast_to((by * lay.block)[:, None, None] + lanes[None, :, None], (ids.shape[0], h, h))
+        return tiled(X, rows), tiled(Y, rows)
+
     def _tiled_rings(self, level: int, ids, rows: int):
         """The :class:`~partmesh.gridref.revolution.Rings` of the chunk of
         blocks ``ids`` tiled side by side (None when planar)."""
@@ -104,8 +117,12 @@ class LevelStepper:
         rows, h = rows_for(K), B + 2 * N_GHOST
         valid = jnp.arange(n) < count
         fluid = jnp.broadcast_to(valid.reshape((n,) + (1,) * lay.dim), (n, *lay.block_shape))
+        cut = self.cut if level == lay.levels - 1 else None
+        if cut is not None:
+            fluid = fluid & jnp.asarray(cut.fluid)[ids]
         gate = jnp.isfinite(dt)
         U0 = levels.blocks_of(H.U[level], ids)
+        images = None if cut is None else staged(lambda U: cut.images(U, gamma), gate)(H.U[level])
         ring = tuple(b + 2 for b in lay.block_shape)  # a block and one ghost layer: where ``ok`` lives
         faces = [lay.face_shape(d) for d in range(lay.dim)]
 
@@ -116,6 +133,8 @@ class LevelStepper:
             rings = self._tiled_rings(level, chunk_ids, rows)
             Ug = staged(lambda U, imposed: gathered(U, src, imposed), gate)(H.U[level], imposed)
             Wg = staged(lambda Ug: primitive(Ug, gamma), gate)(Ug)
+            if cut is not None:
+                Wg = staged(lambda Wg, images: cut.filled(Wg, src.index, images), gate)(Wg, images)
             slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
             allowed = staged(lambda a: _tiled_ring(a, rows), gate)(allowed)
             Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
@@ -125,10 +144,15 @@ class LevelStepper:
 
             def updated(Ug, F, Wh, ok):
                 inner = tuple(cropped(u, scheme.axes, N_GHOST) for u in Ug)
-                U_new = flux_update(inner, F, dt, scheme, Wh, rings=rings)[0]
+                if cut is None:
+                    U_new = flux_update(inner, F, dt, scheme, Wh, rings=rings)[0]
+                    D = ()
+                else:
+                    U_new, D = self._cut_update(cut, inner, F, Wh, dt, scheme, src,
+                                                self._tiled_coords(level, chunk_ids, rows))
                 return (tuple(windowed(u, rows, K, h, lay.block_shape) for u in U_new),
                         [tuple(windowed(f, rows, K, h, faces[d]) for f in Fd) for d, Fd in enumerate(F)],
-                        windowed(ok, rows, K, h, ring))
+                        windowed(ok, rows, K, h, ring), tuple(windowed(a, rows, K, h, lay.block_shape) for a in D))
 
             return staged(updated, gate)(Ug, fluxes, Wh, ok)
 
@@ -140,21 +164,25 @@ class LevelStepper:
         def attempt(allowed):
             pools = (tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0),
                      [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)],
-                     jnp.zeros((n, *ring), bool))
+                     jnp.zeros((n, *ring), bool), tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0) if cut else ())
 
             def body(c, pools):
                 done = chunk(c, jax.lax.dynamic_slice_in_dim(allowed, c * K, K))
                 return jax.tree_util.tree_map(lambda pool, part: jax.lax.dynamic_update_slice_in_dim(
                     pool, part, c * K, 0), pools, done)
 
-            U_new, fluxes, ok = jax.lax.fori_loop(0, (count + K - 1) // K, body, pools)
+            U_new, fluxes, ok, D = jax.lax.fori_loop(0, (count + K - 1) // K, body, pools)
+            if cut is not None:  # redistribution and merging: the cells near the walls, from their neighbours' D
+                U_new = staged(lambda U_new, D: cut.redistributed(
+                    U_new, H.U[level], levels.with_blocks(levels.empty(level), ids, D), dt, _positions(ids, lay.n_blocks(level))),
+                    gate)(U_new, D)
             return (U_new, staged(cfl_dt, gate)(U_new), fluxes), ok
 
         def allowed_after(ok, U_new):
             return staged(lambda ok, U_new: self._second_order_allowed(ok, U_new, level, ids, fluid), gate)(
                 ok, U_new)
 
-        volume = self.volumes(level, ids)
+        volume = self.volumes(level, ids) * (1.0 if cut is None else jnp.asarray(cut.volume)[ids])
 
         def floored(U):
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
@@ -167,6 +195,22 @@ class LevelStepper:
         forces = self._side_forces(H, level, ids, valid, fluxes)
         H = H._replace(floors=H.floors + added, updates=H.updates + count * np.prod(lay.block_shape))
         return H, dt_next, forces
+
+    @staticmethod
+    def _cut_update(cut: CutBlocks, U, F, Wh, dt, scheme: Scheme, src: Sources, coords):
+        """``(U − Δt D in the open cells, D)`` of the interior ``U`` of tiled
+        windows (their cells' global indices ``coords``) with the fluxes ``F``
+        through the open parts of its faces and the walls' pressure from the
+        half-step state ``Wh``
+        (:func:`~partmesh.gridref.euler.step.cut_cell_divergence`)."""
+        fluid, is_cut, wall, normal = cut.window_fields(src.index, src.outside)
+        D, _ = flux_divergence(F, scheme, cut.apertures(*coords))
+        inner = (slice(N_GHOST, -N_GHOST),) * 2
+        W = tuple(cropped(a, scheme.axes) for a in Wh)
+        walls = cut.wall_divergence(W, is_cut[inner], tuple(b[inner] for b in wall), tuple(m[inner] for m in normal),
+                                    scheme.gamma, scheme.riemann)
+        D = [d + w for d, w in zip(D, walls)]
+        return tuple(jnp.where(fluid[inner], u - dt * d, u) for u, d in zip(U, D)), tuple(D)
 
     def _tiled_sources(self, level, ids, ghosts, rows) -> Sources:
         """The sources of the windows of the blocks ``ids`` with ``ghosts``
@@ -234,6 +278,8 @@ class LevelStepper:
             for side, at_side in ((0, coords[d] == 0), (1, coords[d] == nb[d] - 1)):
                 m = momentum[:, side]
                 mask = edge[:, side] & at_side.reshape((-1,) + (1,) * (m.ndim - 1))
+                if self.cut is not None and level == lay.levels - 1:  # the open parts of the faces
+                    m = m * self.cut.side_apertures(d, side, *coords, lay.block)
                 if table is None:
                     forces.append(jnp.sum(jnp.where(mask, m, 0.0)) * area)
                     continue
@@ -243,6 +289,12 @@ class LevelStepper:
                 weight = REVOLUTION[k] * area * (ring if lay.dim == 2 else ring[:, 0])
                 forces.append(jnp.sum(jnp.where(mask, m * weight, 0.0)))
         return jnp.stack(forces)
+
+
+def _positions(ids, n_blocks: int):
+    """Where every block of a level's ``n_blocks`` sits in its list ``ids``
+    (those not listed, and the list's padding: anywhere)."""
+    return jnp.zeros(n_blocks + 1, jnp.int32).at[ids].set(jnp.arange(ids.shape[0], dtype=jnp.int32))
 
 
 def _tiled_ring(a, rows: int):

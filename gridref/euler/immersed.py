@@ -127,32 +127,32 @@ class ImmersedBoundary:
         every other open cell advances with ``U − Δt D`` (there κ = 1 and no
         neighbour gives a share, so D^H = D), a solid cell keeps its state."""
         givers, giver_nb, band, band_nb = self.redistribution
-        kappa_g, around_g, others_g = self._volumes(givers, giver_nb)
-        kappa_b, around_b, others_b = self._volumes(band, band_nb)
+        kappa_g, around_g, others_g = self.open_volumes(givers, giver_nb)
+        kappa_b, around_b, others_b = self.open_volumes(band, band_nb)
         weight_g = np.broadcast_to(self.weight, self.shape).ravel()[givers]
         open_ = jnp.asarray(self.fluid)
         out = []
         for u, D in zip(U, divergence):
             Dw = D * self.weight  # (the volumes: κ w of a cell of weight w)
-            average = _band_sum(Dw, giver_nb) / np.where(around_g > 0.0, around_g, 1.0)  # Σ κ w D^C / Σ κ w
+            average = band_sum(Dw, giver_nb) / np.where(around_g > 0.0, around_g, 1.0)  # Σ κ w D^C / Σ κ w
             deficit = jnp.where(others_g > 0.0, (1.0 - kappa_g) * (D.ravel()[givers] - kappa_g * average) * weight_g,
                                 0.0)
             shares = jnp.zeros(D.size).at[givers].set(deficit / np.where(others_g > 0.0, others_g, 1.0))
-            average = _band_sum(Dw, band_nb) / np.where(around_b > 0.0, around_b, 1.0)
+            average = band_sum(Dw, band_nb) / np.where(around_b > 0.0, around_b, 1.0)
             D_band = D.ravel()[band]
             hybrid = jnp.where(others_b > 0.0, D_band + (1.0 - kappa_b) * average,
                                D_band / np.where(kappa_b > 0.0, kappa_b, 1.0))
-            gained = _band_sum(shares.reshape(D.shape), band_nb) - shares[band]
+            gained = band_sum(shares.reshape(D.shape), band_nb) - shares[band]
             far = jnp.where(open_, u - dt * D, u)
             out.append(far.ravel().at[band].set(u.ravel()[band] - dt * (hybrid + gained)).reshape(u.shape))
         return self.mixed(tuple(out))
 
-    def _volumes(self, cells, neighbours):
+    def open_volumes(self, cells, neighbours):
         """At ``cells``: κ, the open volume Σ κ w over their 3 × 3
         neighbourhoods, and that of the neighbours alone."""
         kappa = self.volume.ravel()[cells]
         volume = self.volume * self.weight
-        around = _band_sum(volume, neighbours, np)
+        around = band_sum(volume, neighbours, np)
         return kappa, around, around - volume.ravel()[cells]
 
     @property
@@ -201,7 +201,7 @@ def neighbourhoods(cells, shape, periodic) -> np.ndarray:
     flat indices of its 3 × 3 neighbourhood as ``[dx][dy]``, dx, dy = −1,
     0, 1: wrapped along periodic axes (``periodic`` along x, y), and beyond
     another side the index one past the last cell, which
-    :func:`_band_sum` reads as 0."""
+    :func:`band_sum` reads as 0."""
     ny, nx = shape
     iy, ix = np.divmod(cells, nx)
     out = np.empty((len(cells), 3, 3), np.int64)
@@ -220,7 +220,7 @@ def neighbourhoods(cells, shape, periodic) -> np.ndarray:
     return out
 
 
-def _band_sum(a, neighbours, xp=jnp):
+def band_sum(a, neighbours, xp=jnp):
     """:func:`_box_sum` of the field ``a`` at the cells whose neighbourhoods
     ``neighbours`` lists (:func:`neighbourhoods`), added in the same order:
     each column of three first, then the columns."""

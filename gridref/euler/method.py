@@ -47,9 +47,9 @@ class FVSettings(Settings):
             return
         if self.derefine > self.refine:
             raise InputError(f"derefine must not exceed refine ({self.refine:g}), got {self.derefine:g}.")
-        if scene.obstacles:
-            raise InputError(f"levels > 1 runs scenes without obstacles for now, and {scene.name} has "
-                             f"{len(scene.obstacles)}: use levels = 1.")
+        if scene.obstacles and scene.geometry != "planar":
+            raise InputError(f"levels > 1 runs obstacles in planar scenes only for now, and {scene.name} is "
+                             f"{scene.geometry} with {len(scene.obstacles)}: use levels = 1.")
         layout_for(scene.domain, self.dx, self.levels, boundary_kinds(scene), self.block)
 
 

@@ -30,6 +30,7 @@ from partmesh.cases.checks import check_initial_state
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
 from partmesh.compare.regrid import to_output_grid
+from partmesh.gridref.amr import blockmaps
 from partmesh.gridref.amr.hierarchy import GROWTH, Hierarchy, Levels, capacity_for, with_level
 from partmesh.gridref.amr.layout import Layout, coords_of, layout_for
 from partmesh.gridref.amr.subcycle import Subcycler, probe_stencils
@@ -37,7 +38,8 @@ from partmesh.gridref.amr.transfer import repeated
 from partmesh.gridref.device_loop import device_loop
 from partmesh.gridref.euler.blocks import LevelStepper, admissible, sensed
 from partmesh.gridref.euler.method import FVSettings, boundary_kinds
-from partmesh.gridref.euler.setup import failure_sentence, inflow_states, named_fields
+from partmesh.gridref.euler.cut_blocks import CutBlocks
+from partmesh.gridref.euler.setup import failure_sentence, immersed_for, inflow_states, named_fields
 from partmesh.gridref.euler.state import conservative, primitive
 from partmesh.gridref.euler.step import FLOOR, Scheme, stable_dt
 from partmesh.gridref.grid import solver_grid
@@ -60,11 +62,20 @@ class Refined:
         #: blocks added around the flagged ones: a front moves at most cfl cells a step on every level, and a
         #: level l takes 2^l steps between two regrids
         buffer = max(1, math.ceil(settings.cfl * (1 << (L - 1)) / lay.block))
+        immersed = immersed_for(scene, solver_grid(scene.domain, settings.dx))
+        #: the bodies' cut cells on the finest level, whose blocks that meet them are always active
+        self.cut = None if immersed is None else CutBlocks(immersed, lay, L - 1)
         self.levels = Levels(lay, self.n_vars, admissible(self.gamma), sensed(self.gamma), settings.refine,
-                             settings.derefine, settings.gradient, buffer, radial)
-        self.stepper = LevelStepper(self.levels, scheme)
-        self.forced = (tuple(jnp.ones(lay.blocks(level)[::-1], bool) for level in range(L)) if forced_finest
-                       else None)
+                             settings.derefine, settings.gradient, buffer, radial,
+                             None if self.cut is None else self.cut.volume)
+        self.stepper = LevelStepper(self.levels, scheme, self.cut)
+        if forced_finest:
+            self.forced = tuple(jnp.ones(lay.blocks(level)[::-1], bool) for level in range(L))
+        elif self.cut is not None:  # (one block around them: their redistribution reads one cell beyond)
+            bodies = blockmaps.dilated(jnp.asarray(self.cut.blocks.reshape(lay.blocks(L - 1)[::-1])), lay.periodic)
+            self.forced = (None,) * (L - 1) + (bodies,)
+        else:
+            self.forced = None
         points = [(pr.x, pr.y)[: lay.dim] for pr in scene.probes] or [(0.0,) * lay.dim]
         self.stencils = [tuple(jnp.asarray(a) for a in s) for s in probe_stencils(self.levels, points)]
         gamma, n_vars = self.gamma, self.n_vars
@@ -123,6 +134,8 @@ class Refined:
             U = self.levels.blocks_of(H.U[level], ids)
             valid = (jnp.arange(ids.shape[0]) < count).reshape((-1,) + (1,) * self.layout.dim)
             fluid = jnp.broadcast_to(valid, U[0].shape)
+            if self.cut is not None and level == self.layout.levels - 1:
+                fluid = fluid & jnp.asarray(self.cut.fluid)[ids]
             dts.append(stable_dt(U, self.gamma, self.layout.spacing(level), self.stepper.schemes[level].cfl, fluid,
                                  self.stepper.crowding(level, ids)) * (1 << level))
         return jnp.min(jnp.stack(dts))
@@ -367,6 +380,8 @@ class _RefinedRun(RunRecord):
         revolved body): level 0 holds the means of every finer level over
         the cells they cover."""
         volume = np.asarray(self.refined.stepper.volumes(0, jnp.arange(self.layout.n_blocks(0))))
+        if self.refined.levels.open_fractions is not None:  # the gas's part of each cell
+            volume = volume * self.refined.levels.open_fractions[0]
         if volume.ndim == 0:  # planar: every cell alike
             return {name: float(np.sum(np.asarray(H.U[0][i]))) * float(volume)
                     for name, i in (("mass", 0), ("energy", -1))}

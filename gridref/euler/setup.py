@@ -8,9 +8,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from partmesh.cases.checks import check_initial_state
+from partmesh.cases.checks import check_initial_state, check_obstacles
 from partmesh.cases.errors import InputError
 from partmesh.cases.scene import Inflow
+from partmesh.gridref.euler.immersed import immersed_boundary
 from partmesh.gridref.euler.method import boundary_kinds
 from partmesh.gridref.euler.state import conservative, primitive
 from partmesh.gridref.euler.step import Scheme
@@ -49,6 +50,15 @@ def initial_state(scene, grid, fluid=None):
     rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
     check_initial_state(scene, rho, p, X, Y, fluid=fluid)
     return conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), scene.gamma)
+
+
+def immersed_for(scene, grid):
+    """The immersed boundary of the scene's obstacles on ``grid`` (or None),
+    refusing a grid too coarse to resolve them."""
+    check_obstacles(scene, float(grid.step[0]))
+    if not scene.obstacles:
+        return None
+    return immersed_boundary(grid, scene.obstacles, scene.periodic, radial=GEOMETRIES[scene.geometry])
 
 
 def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:

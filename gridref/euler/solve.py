@@ -8,14 +8,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
-from partmesh.cases.checks import check_obstacles
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
 from partmesh.compare.regrid import to_output_grid
-from partmesh.gridref.euler.immersed import immersed_boundary
 from partmesh.gridref.euler.method import FVSettings
 from partmesh.gridref.euler.refined import solve_refined
-from partmesh.gridref.euler.setup import failure_sentence, inflow_states, initial_state, named_fields, scheme_for
+from partmesh.gridref.euler.setup import (failure_sentence, immersed_for, inflow_states, initial_state, named_fields,
+                                          scheme_for)
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.step import FLOOR, Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
@@ -40,7 +39,7 @@ def solve(scene, settings: FVSettings):
     configure_jax()
     dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl
     grid = solver_grid(scene.domain, dx)
-    ib = _immersed(scene, grid, dx)
+    ib = immersed_for(scene, grid)
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
@@ -71,15 +70,6 @@ def solve(scene, settings: FVSettings):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
 
     return march(run, state, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
-
-
-def _immersed(scene, grid, dx):
-    """The immersed boundary of the scene's obstacles on ``grid`` (or None),
-    refusing a grid too coarse to resolve them."""
-    check_obstacles(scene, dx)
-    if not scene.obstacles:
-        return None
-    return immersed_boundary(grid, scene.obstacles, scene.periodic, radial=GEOMETRIES[scene.geometry])
 
 
 class _Run(RunRecord):
