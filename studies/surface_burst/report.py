@@ -77,11 +77,12 @@ def file_label(ds) -> str:
 def variant(ds) -> list:
     """The settings of a run that set it apart from the record's other runs at its cell size: a dsmc redraw's
     ``profile`` other than uniform, its ``redraw`` schedule other than every step, and a seed other than 1
-    (every run of the record before it used seed 1)."""
+    (every run of the record before it used seed 1); an fv run's refinement levels (``levels5``)."""
     solver = json.loads(ds.attrs["parameters"])["solver"]
     profile = [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
     redraw = [solver["redraw"]] if solver.get("redraw", "every-step") != "every-step" else []
-    return profile + redraw + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
+    levels = [f"levels{solver['levels']}"] if solver.get("levels", 1) > 1 else []
+    return levels + profile + redraw + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
 
 
 def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
@@ -118,6 +119,26 @@ def table(runs: dict) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+#: a colour map per method and geometry: its runs take shades of it, finest darkest
+FAMILIES = {("fv", "axisymmetric"): "Blues", ("fv", "spherical"): "Greens", ("sph", "axisymmetric"): "Oranges",
+            ("dsmc", "axisymmetric"): "Purples"}
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
+
+
+def run_styles(df: pd.DataFrame) -> dict:
+    """Per run, its line's colour (a shade of its method's and geometry's
+    colour map, darker with a finer cell), marker (one per run of the family)
+    and line style (dashed: refined), so no two runs look alike."""
+    styles = {}
+    for (m, geometry), rows in df.groupby(["method", "geometry"], sort=False):
+        runs = list(rows.sort_values("dx", ascending=False, kind="stable").run.drop_duplicates())
+        cmap = plt.get_cmap(FAMILIES.get((m, geometry), "Greys"))
+        for k, run in enumerate(runs):
+            styles[run] = dict(color=cmap(0.4 + 0.55 * k / max(len(runs) - 1, 1)), marker=MARKERS[k % len(MARKERS)],
+                               ls="--" if "levels" in run else "-")
+    return styles
+
+
 def peaks_figure(df: pd.DataFrame, path: Path) -> None:
     """Peak overpressure (raw and fitted) and positive impulse against Z, with the Kingery–Bulmash curves."""
     Z = np.geomspace(0.8, 14.0, 200)
@@ -126,8 +147,9 @@ def peaks_figure(df: pd.DataFrame, path: Path) -> None:
                                                ("peak_overpressure_fitted", "incident_overpressure", "kPa", 1e-3),
                                                ("positive_impulse", "incident_impulse", "Pa s", 1.0))):
         ax.loglog(Z, scaled_value(kb, Z) * scale, "k-", lw=2, label="Kingery-Bulmash (Swisdak 1994)")
+        styles = run_styles(df)
         for run, rows in df.groupby("run", sort=False):
-            ax.loglog(rows.Z, rows[q] * scale, "o-", ms=4, lw=1, label=run)
+            ax.loglog(rows.Z, rows[q] * scale, ms=4, lw=1, label=run, **styles[run])
         ax.set_xlabel("scaled distance Z [m/kg^(1/3)]")
         ax.set_ylabel(f"{q.replace('_', ' ')} [{unit}]" + (" (per kg^(1/3))" if "impulse" in q else ""))
         ax.grid(True, which="both", alpha=0.3)
