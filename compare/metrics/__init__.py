@@ -20,6 +20,7 @@ from partmesh.compare.metrics.probe_series import (
     peak,
     plateau,
     positive_phase,
+    running_peak,
     shock_fitted_peak,
 )
 from partmesh.compare.metrics.schlieren import schlieren
@@ -40,6 +41,7 @@ __all__ = [
     "plateau",
     "positive_phase",
     "ring_profile",
+    "running_peak",
     "schlieren",
     "shock_fitted_peak",
     "shock_position",

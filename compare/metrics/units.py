@@ -7,7 +7,7 @@ from __future__ import annotations
 MEASURED_UNITS = {
     "wall_peak_pressure_raw": "Pa", "wall_peak_pressure_fitted": "Pa", "wall_arrival_time": "s",
     "wall_impulse_final": "N s m-1", "wall_force_peak_raw": "N m-1",
-    "wall_force_peak_fitted": "N m-1", "reflection_coefficient": "1",
+    "wall_force_peak_fitted": "N m-1", "wall_force_peak_mean": "N m-1", "reflection_coefficient": "1",
     "shock_angle_deg": "degree", "shock_radius": "m", "first_crest_height": "m", "first_crest_time": "s",
     "first_crest_arrival": "s",
 }
