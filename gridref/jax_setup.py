@@ -6,6 +6,7 @@ import."""
 
 from __future__ import annotations
 
+import ctypes
 import os
 
 import jax
@@ -15,7 +16,32 @@ CACHE = os.environ.get("PARTMESH_JAX_CACHE", os.path.join(os.path.expanduser("~"
 
 
 def configure_jax() -> None:
-    """Switch JAX to float64 and to the persistent compilation cache."""
+    """Switch JAX to float64 and to the persistent compilation cache, and
+    keep the grid's arrays in the process's heap (:func:`keep_freed_memory`)."""
     jax.config.update("jax_enable_x64", True)
     jax.config.update("jax_compilation_cache_dir", CACHE)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    keep_freed_memory()
+
+
+#: glibc's mallopt parameters (malloc.h) and the largest threshold it accepts on a 64-bit machine (32 MiB)
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD, _MMAP_THRESHOLD_MAX = -1, -3, 32 * 1024 * 1024
+
+
+def keep_freed_memory() -> None:
+    """Ask glibc's malloc to serve arrays up to 32 MiB from its heap and to
+    keep what is freed there, instead of mapping fresh pages for every
+    array of a step and returning them when it is freed: a grid step's
+    arrays are allocated and freed anew at every step, and each fresh page
+    costs a page fault and its zeroing (a quarter of the run time of a
+    1448² fv Sedov step, whose arrays are 17 MB; 3.8e6 cell updates/s, 6.7e6
+    with this, against 1.0e7 at 512²). The memory a run has used stays
+    with its process until it ends. Does nothing where the C library is
+    not glibc."""
+    try:
+        libc = ctypes.CDLL("libc.so.6")
+        mallopt = libc.mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD_MAX)
+    mallopt(_M_TRIM_THRESHOLD, 2 ** 31 - 1)

@@ -55,7 +55,8 @@ class Subcycler:
         dt_next = jnp.full(self.L, jnp.inf)
         H, records, _, dt_next = self._go(0, H, t, dt, (), (), records, jnp.zeros((), jnp.int32), dt_next)
         scale = jnp.asarray([float(1 << level) for level in range(self.L)])
-        return H, jnp.min(dt_next * scale), records[0], records[1]
+        probes, forces = records if self.L > 1 else (records[0][0], records[1][0])  # (one level: one record, no axis)
+        return H, jnp.min(dt_next * scale), probes, forces
 
     def _go(self, level, H, t, dt, clocks, forces, records, n, dt_next):
         H, dt_level, force = self.level_step(H, level, dt, self.imposed(t))

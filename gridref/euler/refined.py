@@ -106,8 +106,10 @@ class Refined:
         H, short = self.levels.regridded(H, self.imposed(t), self.forced)
         R, n_probes, n_forces = self.subcycler.records, self.subcycler.n_probes, self.subcycler.n_forces
 
+        per_step = (R,) if R > 1 else ()  # (the records of one level have no axis of finest steps)
+
         def halt(H):
-            return H, dt, jnp.zeros((R, n_probes)), jnp.zeros((R, n_forces))
+            return H, dt, jnp.zeros((*per_step, n_probes)), jnp.zeros((*per_step, n_forces))
 
         def advanced(H):
             H, dt_next, probes, forces = self.subcycler.advance(H, t, dt)
