@@ -76,7 +76,9 @@ def wall_load_metrics(ds, p0) -> dict:
     peak force 92.6, 96.0, 99.8 kN/m); the fitted peaks read the load just
     after the spike. Following the last crossing before the maximum, the
     fit of the 0.12 m trap sat in the trough before the later crest and
-    read 4.9 kN/m against a raw 23.6.
+    read 4.9 kN/m against a raw 23.6. The fit assumes a sharp front: where
+    the load rises over much of its window (dsmc's on the deep arrays at
+    2 mm, over 0.1–0.3 ms) it reads the rise, not a peak.
 
     ``wall_force_peak_mean``: the largest centred running mean of the wall
     force over :data:`WALL_MEAN_WINDOW` (20 μs: 21 samples of the 1 μs
@@ -117,12 +119,18 @@ def _mean_samples(series) -> int:
 def _peak_or_nan(series, baseline, samples) -> dict:
     """:func:`partmesh.compare.metrics.peak` of ``series`` with its arrival at
     the first crossing (``samples``: the running mean that passes scatter
-    over), or NaN for every value where it cannot be read (a run that ends
-    before the blast has loaded the wall long enough for the fit)."""
+    over), or NaN for every value that cannot be read (a run that ends
+    before the blast has loaded the wall long enough for the fit: the
+    peaks; or before it reaches the wall: the arrival too)."""
     try:
         return metrics.peak(series, baseline=baseline, crossing="first", samples=samples)
     except ValueError:
-        return dict.fromkeys(("raw", "fitted", "arrival"), float("nan"))
+        pass
+    try:  # (the fit refused: the arrival may still be read)
+        arrival = metrics.arrival_time(series, baseline, crossing="first", samples=samples)
+    except ValueError:
+        arrival = float("nan")
+    return {"raw": float("nan"), "fitted": float("nan"), "arrival": arrival}
 
 
 def _running_peak_or_nan(series, samples) -> float:

@@ -72,6 +72,38 @@ def test_scatter_ahead_of_the_front_does_not_make_the_arrival():
     assert abs(ta - T1) < 25 * DT  # (1 000 seeds: all within 22 samples, 99 % within 6)
 
 
+def test_a_dip_of_the_scatter_at_the_foot_of_the_front_does_not_end_the_positive_phase():
+    """A noisy record crosses the baseline at the foot of its front: with the
+    first crossing the phase runs on to the first return after the maximum."""
+    rng = np.random.default_rng(3)
+    rise, t_end = 2e-4, 2.8e-3  # a front that rises over 0.2 ms, as dsmc's on the deep arrays, and its zero
+    signal = np.where((T >= T1) & (T < t_end), P1 * np.minimum((T - T1) / rise, 1.0) * (t_end - T) / (t_end - T1),
+                      0.0)
+    noisy = P0 + signal + rng.normal(0.0, 0.1 * P1, T.size)
+    phase = positive_phase(series(noisy), P0, crossing="first")
+    top = T[np.argmax(noisy)]
+    assert np.any((T > phase["arrival"]) & (T < top) & (noisy <= P0))  # the scatter dips below on the rise
+    assert T1 - 25 * DT < phase["arrival"] < T1 + 0.1 * rise
+    assert phase["end"] > top
+    # the end is the first sample at or below the baseline after the maximum
+    after = np.flatnonzero((T > top) & (noisy <= P0))[0]
+    assert T[after - 1] <= phase["end"] <= T[after]
+
+
+def test_the_wall_arrival_is_read_where_the_fit_cannot_be():
+    over = first_wave_then_higher_crest()
+    keep = T < T1 + 3 * DT  # the record ends three samples after the front: too short a phase for the fit
+    t = T[keep]
+    ds = xr.Dataset({"p_probe": (("t_probe", "probe"), (P0 + over[keep])[:, None]),
+                     "wall_force": ("t_probe", over[keep] * 0.12), "wall_impulse": ("t_probe", np.zeros(t.size))},
+                    coords={"t_probe": t, "probe": ["w"]})
+    m = wall_load_metrics(ds, P0)
+    assert math.isnan(m["wall_peak_pressure_fitted"]) and math.isnan(m["wall_force_peak_fitted"])
+    k = int(np.ceil(T1 / DT))
+    level = 0.05 * over[keep].max()
+    assert m["wall_arrival_time"] == pytest.approx(T[k - 1] + level / over[k] * DT, abs=1e-12)
+
+
 def test_the_arrival_rules_are_checked():
     s = series(P0 + first_wave_then_higher_crest())
     with pytest.raises(ValueError, match="crossing"):

@@ -166,10 +166,11 @@ def _phase(t, v, baseline, threshold_fraction, crossing="last", samples=GUARD_SA
     else:
         j = -1
         start = float(t[0])
-    # end: the first return to baseline after the arrival
-    below_after = np.nonzero(~above[i:])[0]
+    # end: the first return to baseline after the arrival (with the first crossing: after the maximum too)
+    after = i if crossing == "last" else max(i, int(np.argmax(v)))
+    below_after = np.nonzero(~above[after:])[0]
     if below_after.size:
-        k = i + int(below_after[0])
+        k = after + int(below_after[0])
         end = t[k - 1] + (v[k - 1] - baseline) * (t[k] - t[k - 1]) / (v[k - 1] - v[k])
         truncated = False
         tt = np.concatenate(([start], t[j + 1 : k], [end]))
@@ -206,7 +207,12 @@ def positive_phase(series: xr.DataArray, baseline: float, threshold_fraction: fl
     Kinney & Graham 1985, ch. 6.
 
     ``threshold_fraction``, ``crossing`` and ``samples`` choose the
-    arrival as in :func:`arrival_time`.
+    arrival as in :func:`arrival_time`. With ``crossing="first"`` the phase
+    ends at the first return to baseline after both the arrival and the
+    maximum: a train of waves that stays above the baseline up to its
+    peak is one positive phase (as with the last crossing), and on a noisy
+    record a dip of the scatter below the baseline at the foot of the front
+    does not end it.
 
     Returns
     -------
