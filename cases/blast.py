@@ -75,8 +75,8 @@ def wall_load_metrics(ds, p0) -> dict:
     grows as the grid is refined (inline circles, fv at 2, 1, 0.5 mm: raw
     peak force 92.6, 96.0, 99.8 kN/m); the fitted peaks read the load just
     after the spike. Following the last crossing before the maximum, the
-    fit of the 0.12 m trap sat in the trough before the later crest and
-    read 4.9 kN/m against a raw 23.6. The fit assumes a sharp front: where
+    fit of the 0.12 m trap sat between the first wave and the later crest
+    (1.957–2.157 ms) and read 4.9 kN/m against a raw 23.6. The fit assumes a sharp front: where
     the load rises over much of its window (dsmc's on the deep arrays at
     2 mm, over 0.1–0.3 ms) it reads the rise, not a peak.
 
