@@ -308,7 +308,8 @@ class Levels:
                 child = (2 * coords[0][:, None, None] + offsets[None, None, :],
                          2 * coords[1][:, None, None] + offsets[None, :, None])
             index = jnp.where(valid, flat_id(child, nb), size)
-            return tuple(hit.at[index].set(children > threshold, mode="drop") for hit, threshold in zip(hits, thresholds))
+            return tuple(hit.at[index].set(children > threshold, mode="drop")
+                         for hit, threshold in zip(hits, thresholds))
 
         hits = over_chunks(ids, count, flag, (jnp.zeros(size, bool),) * 2)
         return tuple(hit.reshape(nb[::-1]) for hit in hits)

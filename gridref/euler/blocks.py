@@ -66,6 +66,10 @@ class LevelStepper:
         self.gamma = scheme.gamma
         self.tables = levels.tables  # (two ghost cells beyond either end: N_GHOST)
 
+    def _cut_of(self, level: int) -> CutBlocks | None:
+        """The bodies' cut cells if ``level`` holds them (the finest), else None."""
+        return self.cut if level == self.layout.levels - 1 else None
+
     def crowding(self, level: int, ids):
         """The CFL rate's factor of revolution of every cell of the blocks
         ``ids`` of ``level`` (None when planar)."""
@@ -117,7 +121,7 @@ class LevelStepper:
         rows, h = rows_for(K), B + 2 * N_GHOST
         valid = jnp.arange(n) < count
         fluid = jnp.broadcast_to(valid.reshape((n,) + (1,) * lay.dim), (n, *lay.block_shape))
-        cut = self.cut if level == lay.levels - 1 else None
+        cut = self._cut_of(level)
         if cut is not None:
             fluid = fluid & jnp.asarray(cut.fluid)[ids]
         gate = jnp.isfinite(dt)
@@ -173,9 +177,11 @@ class LevelStepper:
 
             U_new, fluxes, ok, D = jax.lax.fori_loop(0, (count + K - 1) // K, body, pools)
             if cut is not None:  # redistribution and merging: the cells near the walls, from their neighbours' D
-                U_new = staged(lambda U_new, D: cut.redistributed(
-                    U_new, H.U[level], levels.with_blocks(levels.empty(level), ids, D), dt, _positions(ids, lay.n_blocks(level))),
-                    gate)(U_new, D)
+                def redistributed(U_new, D):
+                    D = levels.with_blocks(levels.empty(level), ids, D)
+                    return cut.redistributed(U_new, H.U[level], D, dt, _positions(ids, lay.n_blocks(level)))
+
+                U_new = staged(redistributed, gate)(U_new, D)
             return (U_new, staged(cfl_dt, gate)(U_new), fluxes), ok
 
         def allowed_after(ok, U_new):
@@ -278,7 +284,7 @@ class LevelStepper:
             for side, at_side in ((0, coords[d] == 0), (1, coords[d] == nb[d] - 1)):
                 m = momentum[:, side]
                 mask = edge[:, side] & at_side.reshape((-1,) + (1,) * (m.ndim - 1))
-                if self.cut is not None and level == lay.levels - 1:  # the open parts of the faces
+                if self._cut_of(level) is not None:  # the open parts of the faces
                     m = m * self.cut.side_apertures(d, side, *coords, lay.block)
                 if table is None:
                     forces.append(jnp.sum(jnp.where(mask, m, 0.0)) * area)
