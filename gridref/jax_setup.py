@@ -24,11 +24,13 @@ def configure_jax() -> None:
     keep_freed_memory()
 
 
-#: glibc's mallopt parameters (malloc.h) and the largest threshold it accepts on a 64-bit machine (32 MiB)
+#: glibc's mallopt parameters (malloc.h) and the threshold set: 32 MiB, glibc's own largest dynamic threshold on a
+#: 64-bit machine (2.36 accepts larger; 256 MiB: a 2048² Sedov step at 2.6e6 against 2.0e6 cell updates/s, beside
+#: other work, once: to be measured on a quiet machine)
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD, _MMAP_THRESHOLD_MAX = -1, -3, 32 * 1024 * 1024
 
 
-def keep_freed_memory() -> None:
+def keep_freed_memory() -> bool:
     """Ask glibc's malloc to serve arrays up to 32 MiB from its heap and to
     keep what is freed there, instead of mapping fresh pages for every
     array of a step and returning them when it is freed: a grid step's
@@ -36,12 +38,10 @@ def keep_freed_memory() -> None:
     costs a page fault and its zeroing (a quarter of the run time of a
     1448² fv Sedov step, whose arrays are 17 MB; 3.8e6 cell updates/s, 6.7e6
     with this, against 1.0e7 at 512²). The memory a run has used stays
-    with its process until it ends. Does nothing where the C library is
-    not glibc."""
+    with its process until it ends. Returns whether glibc took both
+    settings; does nothing where the C library is not glibc."""
     try:
-        libc = ctypes.CDLL("libc.so.6")
-        mallopt = libc.mallopt
+        mallopt = ctypes.CDLL("libc.so.6").mallopt
     except (OSError, AttributeError):
-        return
-    mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD_MAX)
-    mallopt(_M_TRIM_THRESHOLD, 2 ** 31 - 1)
+        return False
+    return bool(mallopt(_M_MMAP_THRESHOLD, _MMAP_THRESHOLD_MAX)) and bool(mallopt(_M_TRIM_THRESHOLD, 2 ** 31 - 1))
