@@ -4,11 +4,11 @@ body are always active.
 
 The cut-cell geometry is built once on the finest level's whole grid
 (:func:`~partmesh.gridref.euler.immersed.immersed_boundary`) and laid out
-as the level's block-major storage: the open volume fraction κ, each
-cell's lower x and y face apertures, the wall vector and normal of every
-cut cell (zero elsewhere), the image-point tables of the ghost cells
+as the level's block-major storage: the open volume fraction κ, the wall
+vector and normal of every cut cell (zero elsewhere), the image-point tables of the ghost cells
 inside the bodies, the redistribution neighbourhoods and the merged groups,
-every flat index mapped from the grid to the storage. A step of the level
+every flat index mapped from the grid to the storage; the faces'
+apertures stay the whole grid's, read by global index. A step of the level
 then does what the uniform grid's cut-cell step does
 (:func:`~partmesh.gridref.euler.step.cut_cell_divergence`,
 :meth:`~partmesh.gridref.euler.immersed.ImmersedBoundary.advanced`), with
@@ -29,8 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.gridref.amr.layout import Layout
-from partmesh.gridref.euler.immersed import ImmersedBoundary, band_sum
-from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
+from partmesh.gridref.euler.immersed import ImmersedBoundary, band_sum, mirrored_images, wall_pressure
 from partmesh.gridref.euler.state import primitive
 
 
@@ -48,8 +47,8 @@ class CutBlocks:
         # the storage index of every cell of the grid, and one past the last for the grid's own sentinel
         self._to_storage = np.append(lay.cell_index(level, (ix, iy)), size)
 
-        def stored(field, fill=0.0):
-            out = np.full(size, fill, np.asarray(field).dtype)
+        def stored(field):
+            out = np.zeros(size, np.asarray(field).dtype)
             out[self._to_storage[:-1]] = np.asarray(field).ravel()
             return out.reshape(self.n_blocks, B, B)
 
@@ -98,11 +97,7 @@ class CutBlocks:
         bilinear from the open cells of the level's storage ``U``, with the
         normal velocity reversed (as :meth:`ImmersedBoundary.fill`)."""
         W = primitive(tuple(u.ravel()[self.stencil] for u in U), gamma)
-        image = [jnp.sum(a * self.weights, axis=-1) for a in W]
-        vn = image[1] * self.normal[0] + image[2] * self.normal[1]
-        image[1] = image[1] - 2.0 * vn * self.normal[0]
-        image[2] = image[2] - 2.0 * vn * self.normal[1]
-        return image
+        return mirrored_images(W, self.weights, self.normal)
 
     def filled(self, Wg, index, images):
         """The primitive windows ``Wg`` with every ghost cell (``index``: each
@@ -153,11 +148,8 @@ class CutBlocks:
         """The walls' part of ``D`` in every cell of the interior ``W``
         (primitive, the half-step state): ``(0, p_w B/V, 0)`` where ``cut``,
         zero elsewhere (as :meth:`ImmersedBoundary.wall_divergence`)."""
-        rho, u, v, p = W
-        nx, ny = wall_normal
-        un, ut = u * nx + v * ny, v * nx - u * ny
-        p_wall = RIEMANN_SOLVERS[riemann]((rho, un, ut, p), (rho, -un, ut, p), gamma)[1]
-        zero = jnp.zeros_like(rho)
+        p_wall = wall_pressure(W, wall_normal, gamma, riemann)
+        zero = jnp.zeros_like(W[0])
         return (zero, *(jnp.where(cut, p_wall * b, 0.0) for b in wall), zero)
 
     # --- 3. redistribution and merging --------------------------------------------------------------

@@ -96,10 +96,7 @@ class ImmersedBoundary:
     def fill(self, W):
         """The primitive state ``W`` (tuple) with every ghost cell set from
         its image point."""
-        image = [jnp.sum(a.ravel()[self.stencil] * self.weights, axis=-1) for a in W]
-        vn = image[1] * self.normal[0] + image[2] * self.normal[1]
-        image[1] = image[1] - 2.0 * vn * self.normal[0]
-        image[2] = image[2] - 2.0 * vn * self.normal[1]
+        image = mirrored_images(tuple(a.ravel()[self.stencil] for a in W), self.weights, self.normal)
         return tuple(a.ravel().at[self.ghost].set(g).reshape(a.shape) for a, g in zip(W, image))
 
     def reset(self, U, U_solid):
@@ -111,10 +108,7 @@ class ImmersedBoundary:
         in every cut cell, with ``p_w`` the normal momentum flux of the
         Riemann problem between the cell's primitive state ``W`` and its
         mirror image across the wall."""
-        rho, u, v, p = (a.ravel()[self.cut] for a in W)
-        nx, ny = self.wall_normal
-        un, ut = u * nx + v * ny, v * nx - u * ny
-        p_wall = RIEMANN_SOLVERS[riemann]((rho, un, ut, p), (rho, -un, ut, p), gamma)[1]
+        p_wall = wall_pressure(tuple(a.ravel()[self.cut] for a in W), self.wall_normal, gamma, riemann)
         zero = jnp.zeros(self.shape)
         return (zero, *(zero.ravel().at[self.cut].set(p_wall * b).reshape(self.shape) for b in self.wall), zero)
 
@@ -194,6 +188,28 @@ class ImmersedBoundary:
         members = np.flatnonzero(size[self.group] > 1)
         _, label = np.unique(self.group[members], return_inverse=True)
         return members, label
+
+
+def mirrored_images(W_stencil, weights, normal):
+    """The primitive state at the ghost cells' image points, bilinear from
+    the states ``W_stencil`` (per variable, (n_ghost, 4)) of their stencils
+    with ``weights``, the velocity's component along the outward ``normal``
+    reversed (Mittal & Iaccarino 2005)."""
+    image = [jnp.sum(a * weights, axis=-1) for a in W_stencil]
+    vn = image[1] * normal[0] + image[2] * normal[1]
+    image[1] = image[1] - 2.0 * vn * normal[0]
+    image[2] = image[2] - 2.0 * vn * normal[1]
+    return image
+
+
+def wall_pressure(W, wall_normal, gamma, riemann):
+    """The normal momentum flux of the Riemann problem between the primitive
+    state ``W`` = (ρ, u, v, p) and its mirror image across a wall of unit
+    normal ``wall_normal`` (a slip wall)."""
+    rho, u, v, p = W
+    nx, ny = wall_normal
+    un, ut = u * nx + v * ny, v * nx - u * ny
+    return RIEMANN_SOLVERS[riemann]((rho, un, ut, p), (rho, -un, ut, p), gamma)[1]
 
 
 def neighbourhoods(cells, shape, periodic) -> np.ndarray:
