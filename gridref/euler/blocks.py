@@ -165,10 +165,10 @@ class LevelStepper:
         def cfl_dt(U):
             return stable_dt(U, gamma, scheme.dx, scheme.cfl, fluid, crowding)
 
-        def attempt(allowed):
-            pools = (tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0),
-                     [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)],
-                     jnp.zeros((n, *ring), bool), tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0) if cut else ())
+        def attempt(allowed, previous):
+            # the last attempt's pools of the new state and fluxes, overwritten block by block (no copy of them)
+            pools = (previous[0], previous[2], jnp.zeros((n, *ring), bool),
+                     tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0) if cut else ())
 
             def body(c, pools):
                 done = chunk(c, jax.lax.dynamic_slice_in_dim(allowed, c * K, K))
@@ -194,7 +194,7 @@ class LevelStepper:
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
             return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
-        start = (U0, jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
+        start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
         (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
                                                          jnp.ones((n, *ring), bool), Stepper.RETRIES, start)
         H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)

@@ -59,17 +59,17 @@ def ghost_layer(a, axis, side, kind, value=None, flip=False, ng=N_GHOST):
     raise ValueError(f"unknown boundary kind {kind!r}")
 
 
-def with_ghosts(W, kinds, states, ng=N_GHOST):
+def with_ghosts(W, kinds, states, ng=N_GHOST, directions=None):
     """The primitive state ``W`` padded with ``ng`` ghost cells on every side.
 
     ``kinds`` lists the boundary kind of each side in the order x_lo, x_hi,
     y_lo, y_hi; ``states[i]`` is the primitive inflow state of side ``i``
     (a row of a small array; used by ``inflow`` sides only). Directions are
     padded in turn (x, then y), so corner ghosts take the y-rule applied to
-    x-ghosts.
+    x-ghosts; ``directions`` (all if None) pads along those only.
     """
     dim = W[0].ndim
-    for d in range(dim):
+    for d in range(dim) if directions is None else directions:
         axis = axis_of(dim, d)
         padded = []
         for k, a in enumerate(W):
