@@ -204,7 +204,7 @@ def write_table(df: pd.DataFrame, folder: str | Path, stem: str = "summary") -> 
 
 
 def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str], folder: str | Path,
-           versus: str = "the reference") -> pd.DataFrame:
+           versus: str = "the reference", timing: str | None = None) -> pd.DataFrame:
     """The table of :func:`table` (written by :func:`write_table`) and the
     figures of the runs into ``folder``: profiles (1D) or field maps with
     difference maps and numerical schlieren (2D), probe histories, wall
@@ -213,7 +213,8 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     names the reference in their titles). Where a method ran at three or
     more resolutions, the Richardson value and GCI of every quantity the
     scene measured (:func:`grid_convergence`) go to ``convergence.csv`` and
-    ``convergence.json`` and the figure ``richardson.png``."""
+    ``convergence.json`` and the figure ``richardson.png``. ``timing`` says
+    how the runs were timed (on the speed-against-error figure)."""
     folder = Path(folder)
     df = table(runs, reference, names)
     write_table(df, folder)
@@ -246,6 +247,7 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     error, what = ("eta_L1", "surface elevation") if water else ("rho_L1", "density")
     if reference is not None and error in df and (df[error] > 0).any():
         title = f"{first.attrs['case']}: L1 {what} error against {versus} at t = {df['error_time'].max():.4g} s"
-        plots.speed_versus_error(df, error, folder / "speed_versus_error.png", title)
+        plots.speed_versus_error(df, error, folder / "speed_versus_error.png", title if timing is None
+                                 else f"{title}\n{timing}")
         plots.convergence(df, error, folder / "convergence.png", title)
     return df

@@ -54,3 +54,29 @@ def run(scene, method: str, ensembles: int = 1, scheduler: str | None = None, wo
         ds.attrs.update(quantities)
         ds.attrs["measured_quantities"] = " ".join(quantities)
     return ds
+
+
+#: a run shorter than this many seconds is timed as the best of :data:`REPEATS` (:func:`best_timed_run`)
+SHORT_RUN = 2.0
+#: how many times a short run is made for its timing
+REPEATS = 3
+
+
+def best_timed_run(scene, method: str, repeats: int = REPEATS, short: float = SHORT_RUN, **settings):
+    """:func:`run`, whose ``wall_seconds`` (solver time, compile apart) is the
+    best of ``repeats`` runs where the first took less than ``short``
+    seconds: a short run's time is at the mercy of first-call costs and of
+    whatever else the machine runs, and the least of several is the time
+    the method needs. The runs are the same run (seeded), so the first's
+    fields are returned; attrs add ``wall_seconds_runs`` (every run's solver
+    time, the first first) and ``timing`` (a sentence saying how it was
+    timed)."""
+    ds = run(scene, method, **settings)
+    times = [ds.attrs["wall_seconds"]]
+    if times[0] < short:
+        times += [run(scene, method, **settings).attrs["wall_seconds"] for _ in range(repeats - 1)]
+    ds.attrs["wall_seconds"] = min(times)
+    ds.attrs["wall_seconds_runs"] = times
+    ds.attrs["timing"] = (f"solver time, best of {len(times)} runs" if len(times) > 1
+                          else f"solver time of one run (over {short:g} s)")
+    return ds
