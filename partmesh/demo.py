@@ -30,8 +30,7 @@ def demo(folder: Path = Path("partmesh-demo"), progress: bool = True) -> Path:
     folder = Path(folder)
     available = [m for m in GAS_METHODS if m in methods()]
     load = os.getloadavg()[0]
-    timing = (f"solver times: best of {REPEATS} runs where a run takes under {SHORT_RUN:g} s, compile apart; "
-              f"load average {load:.2f} at the start")
+    timing = f"solver time, best of {REPEATS} below {SHORT_RUN:g} s; load average {load:.2f} at the start"
     print(timing)
     for case, resolutions in RESOLUTIONS.items():
         scene = get(case)
