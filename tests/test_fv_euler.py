@@ -645,3 +645,17 @@ def test_vacuum_floors_change_only_a_near_vacuum_and_count_what_they_add():
     assert np.array_equal(np.asarray(mass), np.asarray(floored[0]) - U[0])
     assert np.array_equal(np.asarray(energy), np.asarray(floored[-1]) - U[-1])
     assert float(np.asarray(energy)[1]) == pytest.approx((FLOOR * 5e5 + 17.0) / (gamma - 1.0), rel=1e-6)
+
+
+def test_a_run_again_in_the_process_reuses_its_compiled_step():
+    """The same scene and grid again: the stepper of the first run, nothing
+    traced or compiled, the same result; another grid gets its own."""
+    from partmesh.gridref.euler import solve
+
+    first = partmesh.run("sod", "fv", dx=0.01, progress=False)
+    kept = dict(solve._STEPPERS)
+    again = partmesh.run("sod", "fv", dx=0.01, progress=False)
+    assert solve._STEPPERS == kept and again.attrs["compile_seconds"] < 0.05
+    np.testing.assert_array_equal(first["rho"].values, again["rho"].values)
+    partmesh.run("sod", "fv", dx=1 / 96, progress=False)
+    assert len(solve._STEPPERS) == min(len(kept) + 1, solve._KEPT) and solve._STEPPERS != kept

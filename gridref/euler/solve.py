@@ -10,6 +10,7 @@ import numpy as np
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.history import History, RunRecord
 from partmesh.cases.march import march
+from partmesh.cases.scene import Inflow
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.method import FVSettings
 from partmesh.gridref.euler.refined import solve_refined
@@ -43,13 +44,8 @@ def solve(scene, settings: FVSettings):
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
-
-    def probe_pressure(U):
-        p = primitive(tuple(a.ravel()[probe_idx] for a in U), gamma)[-1]
-        return jnp.sum(p * probe_w, axis=-1)
-
-    stepper = Stepper(scheme, immersed=ib, solid_state=U, probe_sampler=probe_pressure, n_probes=len(probe_w),
-                      inflow=lambda t: inflow_states(scene, t))
+    probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
+    stepper = _stepper_for(scene, scheme, U, ib, probe_idx, probe_w)
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=stepper.compile(U),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start))
     t, state = scene.t_start, stepper.start(U)
@@ -70,6 +66,41 @@ def solve(scene, settings: FVSettings):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
 
     return march(run, state, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
+
+
+def _probe_sampler(probe_idx, probe_w, gamma):
+    """The pressure at the probes: bilinear in the cells of ``probe_idx``."""
+    def probe_pressure(U):
+        p = primitive(tuple(a.ravel()[probe_idx] for a in U), gamma)[-1]
+        return jnp.sum(p * probe_w, axis=-1)
+    return probe_pressure
+
+
+#: the steppers of this process's runs without bodies or inflow, by what their compiled program depends on
+_STEPPERS: dict = {}
+#: how many of them are kept (the oldest is dropped)
+_KEPT = 8
+
+
+def _stepper_for(scene, scheme, U, immersed, probe_idx, probe_w) -> Stepper:
+    """The :class:`~partmesh.gridref.euler.step.Stepper` of a run. Without
+    bodies or inflow sides its program depends only on the scheme, the
+    grid's shape and the probes' stencil: a run of the same scheme, grid and
+    probes again in this process takes the stepper of the one before, whose
+    step is traced and compiled already (a new one costs its tracing, about
+    0.8 s for ``sod``, whatever the persistent compilation cache holds)."""
+    inflow = any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
+    if immersed is not None or inflow:
+        return Stepper(scheme, immersed=immersed, solid_state=U, n_probes=len(probe_w),
+                       probe_sampler=_probe_sampler(probe_idx, probe_w, scheme.gamma),
+                       inflow=lambda t: inflow_states(scene, t))
+    key = (scheme, U[0].shape, probe_idx.tobytes(), probe_w.tobytes())
+    if key not in _STEPPERS:
+        if len(_STEPPERS) >= _KEPT:
+            del _STEPPERS[next(iter(_STEPPERS))]
+        _STEPPERS[key] = Stepper(scheme, probe_sampler=_probe_sampler(probe_idx, probe_w, scheme.gamma),
+                                 n_probes=len(probe_w))
+    return _STEPPERS[key]
 
 
 class _Run(RunRecord):
