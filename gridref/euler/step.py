@@ -314,8 +314,9 @@ def strip_rows(shape) -> int | None:
     """The rows of each strip of a 2D grid of ``shape`` (y, x) that
     :func:`strip_attempt` steps in turn: as many as :data:`STRIP_CELLS`
     allows, at least four, and at least two strips; None for a grid too
-    small to be split (it is stepped whole)."""
-    if len(shape) != 2 or shape[0] < 8 or not STRIP_CELLS:
+    small to be split, and off the CPU, where a loop over strips would
+    serialise what the device runs in parallel (the grid is stepped whole)."""
+    if len(shape) != 2 or shape[0] < 8 or not STRIP_CELLS or jax.default_backend() != "cpu":
         return None
     ny, nx = shape
     return max(4, min(ny // 2, STRIP_CELLS // nx))
