@@ -10,6 +10,9 @@ from __future__ import annotations
 import json
 import os
 import platform
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 from partmesh.cases import registry
@@ -128,6 +131,27 @@ def time_to_accuracy(method: str) -> list[dict]:
     return records
 
 
+#: sod cell sizes of a cold-process run (:func:`cold_process`): the first, then one not run before
+COLD_DX = (5e-3, 4e-3)
+
+
+def cold_process(method: str) -> dict:
+    """The seconds ``pm.run("sod", method)`` takes end to end, import
+    included, in a fresh Python process after one earlier run (compiled
+    code cached on disk, nothing in memory), at a cell size not run before
+    (:data:`COLD_DX`): what a user waits for a first run in a new session."""
+    code = (f"import time; t0 = time.perf_counter(); import partmesh as pm; "
+            f"ds = pm.run('sod', {method!r}, dx={COLD_DX[1]!r}, progress=False); "
+            "print(ds.attrs['n_elements'], time.perf_counter() - t0)")
+    run(get("sod"), method, dx=COLD_DX[0], progress=False)  # (the earlier run: its compiled code on disk)
+    t0 = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    n, seconds = done.stdout.split()[-2:]
+    return {"method": method, "case": "sod", "n_elements": int(n), "metric": "cold_process_seconds",
+            "value": float(seconds), "unit": "s", "compile_seconds": float("nan"),
+            "process_seconds": time.perf_counter() - t0}
+
+
 #: (cells across, t_end) of the small 2D Sedov grids of ``fv`` (about 60 and 110 steps)
 SMALL_FV_GRIDS = ((64, 0.15), (128, 0.08))
 #: (cells across, t_end) of the large 2D Sedov grids of ``fv`` (about 60 steps each): the rate against size
@@ -157,6 +181,7 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
             records += throughput(method, n, t_end, levels=levels)
     for method in (m for m in registered if registry.method(m).medium == "gas"):  # (sod is a gas scene)
         records += time_to_accuracy(method)
+        records.append(cold_process(method))
     for r in records:
         r["machine"] = _machine()
         print(f"{r['method']:5s} {r['case']:15s} {r['metric']:28s} {r['value']:.4g} {r['unit']}"
