@@ -194,7 +194,8 @@ class LevelStepper:
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
             return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
-        start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()), [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
+        start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()),
+                 [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
         (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
                                                          jnp.ones((n, *ring), bool), Stepper.RETRIES, start)
         H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)

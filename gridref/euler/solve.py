@@ -45,7 +45,8 @@ def solve(scene, settings: FVSettings):
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
     probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
-    stepper = _stepper_for(scene, scheme, U, ib, probe_idx, probe_w)
+    stepper = _stepper_for(scene, scheme, U, ib, probe_pressure, (probe_idx.tobytes(), probe_w.tobytes()),
+                           len(probe_w))
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=stepper.compile(U),
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start))
     t, state = scene.t_start, stepper.start(U)
@@ -82,24 +83,24 @@ _STEPPERS: dict = {}
 _KEPT = 8
 
 
-def _stepper_for(scene, scheme, U, immersed, probe_idx, probe_w) -> Stepper:
-    """The :class:`~partmesh.gridref.euler.step.Stepper` of a run. Without
-    bodies or inflow sides its program depends only on the scheme, the
-    grid's shape and the probes' stencil: a run of the same scheme, grid and
-    probes again in this process takes the stepper of the one before, whose
-    step is traced and compiled already (a new one costs its tracing, about
-    0.8 s for ``sod``, whatever the persistent compilation cache holds)."""
+def _stepper_for(scene, scheme, U, immersed, probes, stencil, n_probes) -> Stepper:
+    """The :class:`~partmesh.gridref.euler.step.Stepper` of a run, sampling
+    its ``probes`` (``stencil``: the bytes of their cells and weights).
+    Without bodies or inflow sides its program depends only on the scheme,
+    the grid's shape and the probes' stencil: a run of the same scheme, grid
+    and probes again in this process takes the stepper of the one before,
+    whose step is traced and compiled already (a new one costs its tracing,
+    about 0.8 s for ``sod``, whatever the persistent compilation cache
+    holds). A kept stepper holds neither the scene nor its state."""
     inflow = any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
     if immersed is not None or inflow:
-        return Stepper(scheme, immersed=immersed, solid_state=U, n_probes=len(probe_w),
-                       probe_sampler=_probe_sampler(probe_idx, probe_w, scheme.gamma),
+        return Stepper(scheme, immersed=immersed, solid_state=U, probe_sampler=probes, n_probes=n_probes,
                        inflow=lambda t: inflow_states(scene, t))
-    key = (scheme, U[0].shape, probe_idx.tobytes(), probe_w.tobytes())
+    key = (scheme, U[0].shape, stencil)
     if key not in _STEPPERS:
         if len(_STEPPERS) >= _KEPT:
             del _STEPPERS[next(iter(_STEPPERS))]
-        _STEPPERS[key] = Stepper(scheme, probe_sampler=_probe_sampler(probe_idx, probe_w, scheme.gamma),
-                                 n_probes=len(probe_w))
+        _STEPPERS[key] = Stepper(scheme, probe_sampler=probes, n_probes=n_probes)
     return _STEPPERS[key]
 
 

@@ -338,10 +338,9 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
     overlapping rows come out the same and count once in the side forces."""
     ny, g = U[0].shape[0], N_GHOST
     gamma, last = scheme.gamma, ny - rows
-    # the y sides' ghost rows, from the first and last rows padded along x (as :func:`with_ghosts` makes them)
+    # the y sides' ghost rows: those of the first and last rows alone, ghosted as the whole grid is
     edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
-    edges = staged(lambda E: with_ghosts(with_ghosts(primitive(E, gamma), scheme.kinds, states, directions=(0,)),
-                                         scheme.kinds, states, directions=(1,)), gate)(edges)
+    edges = staged(lambda E: ghosted_primitive(E, states, scheme), gate)(edges)
     crowding = None if rings is None else rings.crowding
 
     def window(U, start):
@@ -373,8 +372,7 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
 
         U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
         # the x sides through every strip; the y sides through the first and last strips' outer faces
-        sides = jnp.array([1.0, 1.0, 0.0, 0.0]) + jnp.array([0.0, 0.0, 1.0, 0.0]) * (start == 0) \
-            + jnp.array([0.0, 0.0, 0.0, 1.0]) * (start == last)
+        sides = jnp.array([True, True, start == 0, start == last], dtype=forces_s.dtype)
         return (tuple(jax.lax.dynamic_update_slice_in_dim(a, b, start, 0) for a, b in zip(U_new, U_s)),
                 jax.lax.dynamic_update_slice_in_dim(ok, ok_s, start, 0), forces + sides * forces_s,
                 jnp.minimum(dt_next, dt_s))
