@@ -73,6 +73,23 @@ class Hierarchy(NamedTuple):
     peak: jnp.ndarray
 
 
+#: the fields of a :class:`Hierarchy` that hold one entry per level
+PER_LEVEL = ("U", "old", "flux", "register", "active", "halo", "maps")
+
+
+def from_level(H: Hierarchy, level: int) -> Hierarchy:
+    """``H`` with the entries of the levels coarser than ``level`` None: what
+    the steps of levels ``level`` and finer change (a loop over them carries
+    it, and reads the coarser levels as constants, which it need not copy)."""
+    return H._replace(**{f: (None,) * level + getattr(H, f)[level:] for f in PER_LEVEL})
+
+
+def joined(coarse: Hierarchy, fine: Hierarchy, level: int) -> Hierarchy:
+    """The hierarchy of ``coarse``'s levels below ``level`` and ``fine``'s
+    from ``level`` on (:func:`from_level`), with ``fine``'s other fields."""
+    return fine._replace(**{f: getattr(coarse, f)[:level] + getattr(fine, f)[level:] for f in PER_LEVEL})
+
+
 #: how much a step of level 0 may exceed the one before (AMReX's ``change_max``): a finer level takes
 #: 2^l steps of the size set at the start of a step of level 0, so a wave that speeds up inside it (a
 #: Riemann problem's first steps) must not find the steps far beyond its own stable one
@@ -348,18 +365,22 @@ class Levels:
             short = short | (a[1] > cap) | (h[1] > cap_halo)
         need = jnp.stack(need)
 
-        def renewed(H):
-            U = list(H.U)
-            for level in range(1, L if fill else 1):
-                fresh = maps[level] & ~H.maps[level]
-                ids, count = blockmaps.listed(fresh, active[level][0].shape[0])
-                U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, count, imposed)
-            counts = jnp.stack([a[1] for a in active])
-            peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
-            return H._replace(U=tuple(U), active=tuple(active), halo=tuple(halo), maps=tuple(maps), need=need,
-                              peak=peak)
+        # the new blocks prolonged, unless a list is short (then none: the step halts, the lists grow and the
+        # regrid is made again); chosen by selects on the lists and trip counts, not by a conditional, whose
+        # branches would copy every level's storage in and out
+        U = list(H.U)
+        for level in range(1, L if fill else 1):
+            fresh = maps[level] & ~H.maps[level]
+            ids, count = blockmaps.listed(fresh, active[level][0].shape[0])
+            U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, jnp.where(short, 0, count), imposed)
+        counts = jnp.stack([a[1] for a in active])
+        peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
 
-        H = jax.lax.cond(short, lambda H: H._replace(need=need), renewed, H)
+        def kept(new, old):
+            return jax.tree_util.tree_map(lambda a, b: jnp.where(short, b, a), new, old)
+
+        H = H._replace(U=tuple(U), active=kept(tuple(active), H.active), halo=kept(tuple(halo), H.halo),
+                       maps=kept(tuple(maps), H.maps), need=need, peak=kept(peak, H.peak))
         return H, short
 
 

@@ -77,6 +77,11 @@ class Layout:
             return (B + 1,)
         return (B, B + 1) if d == 0 else (B + 1, B)
 
+    @property
+    def edge_shape(self) -> tuple[int, ...]:
+        """A block's faces on its two boundaries normal to one axis: ``(2[, block])``."""
+        return (2, self.block) if self.dim == 2 else (2,)
+
     def cell_index(self, level: int, at):
         """The flat index, into ``level``'s block-major storage raveled, of
         the cells at global indices ``at`` (per axis, x first; numpy or JAX

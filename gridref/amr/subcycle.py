@@ -23,7 +23,7 @@ import numpy as np
 
 from jax_cfd.base import grids
 
-from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, with_level
+from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, from_level, joined, with_level
 from partmesh.gridref.grid import bilinear_stencil
 
 
@@ -73,12 +73,15 @@ class Subcycler:
         half = 0.5 * dt
 
         def substep(k, carry):
-            H, records, n, dt_next = carry
+            part, records, n, dt_next = carry
             t_k = t + k * half
-            H = self.levels.halo_filled(H, fine, 0.5 * k, self.imposed(t_k))
-            return self._go(fine, H, t_k, half, clocks, forces, records, n, dt_next)
+            H_k = self.levels.halo_filled(joined(H, part, fine), fine, 0.5 * k, self.imposed(t_k))
+            H_k, records, n, dt_next = self._go(fine, H_k, t_k, half, clocks, forces, records, n, dt_next)
+            return from_level(H_k, fine), records, n, dt_next
 
-        H, records, n, dt_next = jax.lax.fori_loop(0, 2, substep, (H, records, n, dt_next))
+        # (the coarser levels, which the finer steps only read, stay outside the loop's carry)
+        part, records, n, dt_next = jax.lax.fori_loop(0, 2, substep, (from_level(H, fine), records, n, dt_next))
+        H = joined(H, part, fine)
         ids, count = H.active[fine]
         levels = self.levels
         U = levels.restricted_into(H.U[level], H.U[fine], fine, ids, count)

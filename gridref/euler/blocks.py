@@ -129,10 +129,16 @@ class LevelStepper:
         images = None if cut is None else staged(lambda U: cut.images(U, gamma), gate)(H.U[level])
         ring = tuple(b + 2 for b in lay.block_shape)  # a block and one ghost layer: where ``ok`` lives
         faces = [lay.face_shape(d) for d in range(lay.dim)]
+        stores_fluxes = level < lay.levels - 1  # (a level with a finer one keeps Δt F for the refluxing)
+
+        crowding = self.crowding(level, ids)
 
         def chunk(c, allowed):
-            """The step of the ``K`` blocks of chunk ``c``, tiled side by side."""
+            """The step of the ``K`` blocks of chunk ``c``, tiled side by side, and
+            (without bodies) the CFL step of its new state."""
             chunk_ids = jax.lax.dynamic_slice(ids, (c * K,), (K,))
+            fluid_c, crowding_c = (None if a is None else jax.lax.dynamic_slice_in_dim(a, c * K, K)
+                                   for a in (fluid, crowding))
             src = self._tiled_sources(level, chunk_ids, N_GHOST, rows)
             rings = self._tiled_rings(level, chunk_ids, rows)
             Ug = staged(lambda U, imposed: gathered(U, src, imposed), gate)(H.U[level], imposed)
@@ -146,7 +152,7 @@ class LevelStepper:
             fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                       for d in range(lay.dim)]
 
-            def updated(Ug, F, Wh, ok):
+            def updated(Ug, F, Wh, ok, fluid_c, crowding_c):
                 inner = tuple(cropped(u, scheme.axes, N_GHOST) for u in Ug)
                 if cut is None:
                     U_new = flux_update(inner, F, dt, scheme, Wh, rings=rings)[0]
@@ -154,35 +160,46 @@ class LevelStepper:
                 else:
                     U_new, D = self._cut_update(cut, inner, F, Wh, dt, scheme, src,
                                                 self._tiled_coords(level, chunk_ids, rows))
-                return (tuple(windowed(u, rows, K, h, lay.block_shape) for u in U_new),
-                        [tuple(windowed(f, rows, K, h, faces[d]) for f in Fd) for d, Fd in enumerate(F)],
-                        windowed(ok, rows, K, h, ring), tuple(windowed(a, rows, K, h, lay.block_shape) for a in D))
+                F = [tuple(windowed(f, rows, K, h, faces[d]) for f in Fd) for d, Fd in enumerate(F)]
+                U_new = tuple(windowed(u, rows, K, h, lay.block_shape) for u in U_new)
+                # (with bodies the state changes again, by the redistribution: its CFL step is taken after it)
+                dt_c = stable_dt(U_new, gamma, scheme.dx, scheme.cfl, fluid_c, crowding_c) if cut is None else ()
+                return (U_new, [tuple(_boundary_faces(f, d, lay.dim) for f in Fd) for d, Fd in enumerate(F)],
+                        windowed(ok, rows, K, h, ring), tuple(windowed(a, rows, K, h, lay.block_shape) for a in D),
+                        F if stores_fluxes else (), dt_c)
 
-            return staged(updated, gate)(Ug, fluxes, Wh, ok)
-
-        crowding = self.crowding(level, ids)
+            return staged(updated, gate)(Ug, fluxes, Wh, ok, fluid_c, crowding_c)
 
         def cfl_dt(U):
             return stable_dt(U, gamma, scheme.dx, scheme.cfl, fluid, crowding)
 
         def attempt(allowed, previous):
-            # the last attempt's pools of the new state and fluxes, overwritten block by block (no copy of them)
+            # the last attempt's pools of the new state and boundary fluxes, overwritten block by block (no copy
+            # of them); a level with a finer one writes Δt F into its flux storage as each chunk is done
             pools = (previous[0], previous[2], jnp.zeros((n, *ring), bool),
                      tuple(jnp.zeros((n, *lay.block_shape)) for _ in U0) if cut else ())
 
-            def body(c, pools):
-                done = chunk(c, jax.lax.dynamic_slice_in_dim(allowed, c * K, K))
-                return jax.tree_util.tree_map(lambda pool, part: jax.lax.dynamic_update_slice_in_dim(
-                    pool, part, c * K, 0), pools, done)
+            def body(c, carry):
+                pools, stored, dt_min = carry
+                U_c, faces_c, ok_c, D_c, F_c, dt_c = chunk(c, jax.lax.dynamic_slice_in_dim(allowed, c * K, K))
+                pools = jax.tree_util.tree_map(lambda pool, part: jax.lax.dynamic_update_slice_in_dim(
+                    pool, part, c * K, 0), pools, (U_c, faces_c, ok_c, D_c))
+                if stores_fluxes:
+                    chunk_ids = jax.lax.dynamic_slice_in_dim(ids, c * K, K)
+                    stored = tuple(levels.with_blocks(S, chunk_ids, [dt * f for f in F]) for S, F in zip(stored, F_c))
+                # (the least CFL step of the chunks is the level's: cfl / max rate, as over all blocks at once)
+                return pools, stored, dt_min if cut is not None else jnp.minimum(dt_min, dt_c)
 
-            U_new, fluxes, ok, D = jax.lax.fori_loop(0, (count + K - 1) // K, body, pools)
+            (U_new, faces, ok, D), stored, dt_next = jax.lax.fori_loop(0, (count + K - 1) // K, body,
+                                                                       (pools, previous[3], jnp.array(jnp.inf)))
             if cut is not None:  # redistribution and merging: the cells near the walls, from their neighbours' D
                 def redistributed(U_new, D):
                     D = levels.with_blocks(levels.empty(level), ids, D)
                     return cut.redistributed(U_new, H.U[level], D, dt, _positions(ids, lay.n_blocks(level)))
 
                 U_new = staged(redistributed, gate)(U_new, D)
-            return (U_new, staged(cfl_dt, gate)(U_new), fluxes), ok
+                dt_next = staged(cfl_dt, gate)(U_new)
+            return (U_new, dt_next, faces, stored), ok
 
         def allowed_after(ok, U_new):
             return staged(lambda ok, U_new: self._second_order_allowed(ok, U_new, level, ids, fluid), gate)(
@@ -195,11 +212,12 @@ class LevelStepper:
             return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
         start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()),
-                 [tuple(jnp.zeros((n, *faces[d])) for _ in U0) for d in range(lay.dim)])
-        (U_new, dt_next, fluxes), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
-                                                         jnp.ones((n, *ring), bool), Stepper.RETRIES, start)
-        H = self._advanced(H, level, ids, U0, U_new, fluxes, dt)
-        forces = self._side_forces(H, level, ids, valid, fluxes)
+                 [tuple(jnp.zeros((n, *lay.edge_shape)) for _ in U0) for _ in range(lay.dim)],
+                 H.flux[level] if stores_fluxes else ())
+        (U_new, dt_next, faces, stored), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),
+                                                                jnp.ones((n, *ring), bool), Stepper.RETRIES, start)
+        H = self._advanced(H, level, ids, U0, U_new, faces, stored, dt)
+        forces = self._side_forces(H, level, ids, valid, faces)
         H = H._replace(floors=H.floors + added, updates=H.updates + count * np.prod(lay.block_shape))
         return H, dt_next, forces
 
@@ -246,29 +264,29 @@ class LevelStepper:
             around = around | jnp.roll(around, 1, axis) | jnp.roll(around, -1, axis)
         return ok & ~around[(slice(None),) + (slice(1, -1),) * lay.dim]
 
-    def _advanced(self, H, level, ids, U0, U_new, fluxes, dt):
+    def _advanced(self, H, level, ids, U0, U_new, faces, stored, dt):
         """``H`` with the level's blocks set to ``U_new``; for a level with a
-        finer one, its old state and Δt F kept; for one with a coarser one,
-        Δt F through its blocks' boundary faces added to its register."""
+        finer one, its old state and Δt F (``stored``, its flux storage with
+        the step's blocks written) kept; for one with a coarser one, Δt F
+        through its blocks' boundary faces (``faces``) added to its register."""
         levels, L = self.levels, self.layout.levels
         U = levels.with_blocks(H.U[level], ids, U_new)
         H = H._replace(U=with_level(H.U, level, U))
         if level < L - 1:
             H = H._replace(old=with_level(H.old, level, levels.with_blocks(H.old[level], ids, U0)),
-                           flux=with_level(H.flux, level, tuple(levels.with_blocks(H.flux[level][d], ids,
-                                                                             [dt * f for f in F])
-                                                          for d, F in enumerate(fluxes))))
+                           flux=with_level(H.flux, level, stored))
         if level > 0:
-            register = tuple(tuple(r + dt * _boundary_faces(f, d, self.layout.dim) for r, f in zip(reg, F))
-                             for d, (reg, F) in enumerate(zip(H.register[level], fluxes)))
+            register = tuple(tuple(r + dt * f for r, f in zip(reg, F))
+                             for reg, F in zip(H.register[level], faces))
             H = H._replace(register=with_level(H.register, level, register))
         return H
 
-    def _side_forces(self, H, level, ids, valid, fluxes):
+    def _side_forces(self, H, level, ids, valid, faces):
         """The normal momentum flux through the level's faces on every side
         of the domain (x_lo, x_hi[, y_lo, y_hi]) that no finer level covers,
         times their area (per metre depth in 2D, per square metre in 1D; of
-        revolution, the whole revolved side)."""
+        revolution, the whole revolved side), from the fluxes through the
+        blocks' boundary faces ``faces``."""
         lay = self.layout
         nb = lay.blocks(level)
         coords = coords_of(ids, nb, jnp)
@@ -279,7 +297,7 @@ class LevelStepper:
         table, k = self.tables[level], self.levels.radial
         forces = []
         for d in range(lay.dim):
-            momentum = _boundary_faces(fluxes[d][1 + d], d, lay.dim)  # (n, 2[, B])
+            momentum = faces[d][1 + d]  # (n, 2[, B])
             edge = _boundary_faces(open_, d, lay.dim)
             area = 1.0 if lay.dim == 1 else dx[1 - d]
             for side, at_side in ((0, coords[d] == 0), (1, coords[d] == nb[d] - 1)):

@@ -102,21 +102,23 @@ class Refined:
 
     def step(self, H: Hierarchy, t, dt):
         """A step of level 0 after a regrid; halts (the fifth value True, the
-        state's ``need`` set) where a block list is too short."""
+        state's ``need`` set, nothing else changed) where a block list is too
+        short. A halted step is the step of a hierarchy with no block listed
+        (every loop runs no pass, every scatter drops), not a conditional,
+        whose branches would copy every level's storage in and out."""
         H, short = self.levels.regridded(H, self.imposed(t), self.forced)
-        R, n_probes, n_forces = self.subcycler.records, self.subcycler.n_probes, self.subcycler.n_forces
+        lay = self.layout
 
-        per_step = (R,) if R > 1 else ()  # (the records of one level have no axis of finest steps)
+        def idle(lists):
+            return tuple((jnp.where(short, lay.n_blocks(level), ids), jnp.where(short, 0, count))
+                         for level, (ids, count) in enumerate(lists))
 
-        def halt(H):
-            return H, dt, jnp.zeros((*per_step, n_probes)), jnp.zeros((*per_step, n_forces))
-
-        def advanced(H):
-            H, dt_next, probes, forces = self.subcycler.advance(H, t, dt)
-            dt_next = jnp.minimum(dt_next, H.dt_limit)
-            return H._replace(dt_limit=GROWTH * dt_next), dt_next, probes, forces
-
-        return (*jax.lax.cond(short, halt, advanced, H), short)
+        moved, dt_next, probes, forces = self.subcycler.advance(H._replace(active=idle(H.active), halo=idle(H.halo)),
+                                                                t, dt)
+        dt_next = jnp.where(short, dt, jnp.minimum(dt_next, H.dt_limit))
+        # (an idle step adds no cell updates and no floors: only the lists and the step's limit are put back)
+        H = moved._replace(active=H.active, halo=H.halo, dt_limit=jnp.where(short, H.dt_limit, GROWTH * dt_next))
+        return H, dt_next, probes, forces, short
 
     def first_dt(self, H: Hierarchy) -> float:
         """The first step of level 0: its stable step shrunk by 2^(levels−1),
@@ -165,10 +167,10 @@ class Refined:
             coarser = restrict(H.U[level - 1], H.U[level], level, *H.active[level])
             H = H._replace(U=with_level(H.U, level - 1, coarser))
         counts = np.asarray(H.need)
-        # lists start with room for a tenth of a level's blocks (and a quarter more, to a power of two): a
-        # front that grows from a point would otherwise outgrow them several times, each a compile of the
-        # loop; an empty slot costs little (its chunk is not advanced)
-        room = [capacity_for(n // 10, n) for n in full]
+        # lists start with room for a tenth of a level's blocks (and a quarter more, to a power of two), a
+        # small level's for all of them: a front that grows from a point would otherwise outgrow them several
+        # times, each a compile of the loop; an empty slot costs little (its chunk is not advanced)
+        room = [n if n <= SMALL_LEVEL else capacity_for(n // 10, n) for n in full]
 
         def caps(column):
             return [max(capacity_for(int(c), n), r) for c, n, r in zip(counts[1:, column], full[1:], room[1:])]
@@ -229,23 +231,28 @@ def with_capacity(H: Hierarchy, caps, halo_caps, lay: Layout) -> Hierarchy:
     L = lay.levels
     active = tuple(resized(H.active[level], caps[level], level) for level in range(L))
     halo = tuple(resized(H.halo[level], halo_caps[level], level) for level in range(L))
-    shape = (2, lay.block) if lay.dim == 2 else (2,)
-    register = ((),) + tuple(tuple(tuple(jnp.zeros((caps[level], *shape)) for _ in range(lay.dim + 2))
+    register = ((),) + tuple(tuple(tuple(jnp.zeros((caps[level], *lay.edge_shape)) for _ in range(lay.dim + 2))
                                    for _ in range(lay.dim)) for level in range(1, L))
     return H._replace(active=active, halo=halo, register=register)
 
 
+#: the blocks of a level small enough to be listed whole from the start (its lists never grow)
+SMALL_LEVEL = 128
+
+
 def grown(H: Hierarchy, lay: Layout) -> Hierarchy | None:
-    """``H`` with every block list too short for what the last regrid asked
-    for (``need``) grown to :func:`capacity_for` it; None if none is."""
+    """``H`` with every block list grown to :func:`capacity_for` twice what
+    the last regrid asked for (``need``) where one list is too short for it
+    (a front that outgrew one list is about to outgrow the others, and each
+    growth is a compile of the loop); None if none is."""
     caps, halo_caps = capacities(H)
     need = np.asarray(H.need)
     if not any(int(need[level, 0]) > caps[level] or int(need[level, 1]) > halo_caps[level]
                for level in range(1, lay.levels)):
         return None
     most = [lay.n_blocks(level) for level in range(1, lay.levels)]
-    caps = [caps[0]] + [max(c, capacity_for(int(n), m)) for c, n, m in zip(caps[1:], need[1:, 0], most)]
-    halo_caps = [halo_caps[0]] + [max(c, capacity_for(int(n), m))
+    caps = [caps[0]] + [max(c, capacity_for(2 * int(n), m)) for c, n, m in zip(caps[1:], need[1:, 0], most)]
+    halo_caps = [halo_caps[0]] + [max(c, capacity_for(2 * int(n), m))
                                   for c, n, m in zip(halo_caps[1:], need[1:, 1], most)]
     return with_capacity(H, caps, halo_caps, lay)
 
