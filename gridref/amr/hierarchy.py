@@ -96,6 +96,11 @@ def joined(coarse: Hierarchy, fine: Hierarchy, level: int) -> Hierarchy:
 GROWTH = 1.1
 
 
+#: the fine cells next to a block's side that a neighbour's window reads (its two ghost layers): the rim of a
+#: halo block that :meth:`Levels.rims_filled` prolongs
+RIM = 2
+
+
 def with_level(levels: tuple, level: int, value) -> tuple:
     """The tuple over levels ``levels`` with entry ``level`` replaced by ``value``."""
     return levels[:level] + (value,) + levels[level + 1:]
@@ -201,9 +206,11 @@ class Levels:
 
         return over_chunks(ids, count, restrict, U_coarse)
 
-    def prolonged_blocks(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
-        """The fine blocks ``ids`` prolonged from the coarser level, whose
-        state is ``(1 − θ) old + θ U`` (``old`` None: ``U`` alone)."""
+    def _coarse_windows(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
+        """The coarse footprints of the fine blocks ``ids`` with one cell
+        around, at ``(1 − θ) old + θ U`` (``old`` None: ``U`` alone), and
+        per parent along x the shift of its children's offsets (None when
+        planar: :func:`~partmesh.gridref.amr.transfer.volume_shift`)."""
         lay, half = self.layout, self.layout.block // 2
         coords = coords_of(ids, lay.blocks(fine), jnp)
         src = sources(lay, fine - 1, tuple(c * half - 1 for c in coords), half + 2)
@@ -211,12 +218,58 @@ class Levels:
         if old_coarse is not None:
             before = gathered(old_coarse, src, imposed)
             window = tuple((1.0 - theta) * b + theta * a for a, b in zip(window, before))
-        # (batched with vmap: tiled side by side, 2.3x slower on these small windows, measured)
         if not self.radial:
-            return jax.vmap(lambda w: prolonged(w, self.admissible))(window)
+            return window, None
         volumes = self.tables[fine].volumes_at(self.radii(fine, ids))
-        shift = volume_shift(volumes[:, 0::2], volumes[:, 1::2])
+        return window, volume_shift(volumes[:, 0::2], volumes[:, 1::2])
+
+    def _prolonged(self, window, shift):
+        """The children of the interior cells of a batch of coarse windows
+        (batched with vmap: tiled side by side, 2.3x slower on these small
+        windows, measured)."""
+        if shift is None:
+            return jax.vmap(lambda w: prolonged(w, self.admissible))(window)
         return jax.vmap(lambda w, c: prolonged(w, self.admissible, c))(window, shift)
+
+    def prolonged_blocks(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
+        """The fine blocks ``ids`` prolonged from the coarser level, whose
+        state is ``(1 − θ) old + θ U`` (``old`` None: ``U`` alone)."""
+        return self._prolonged(*self._coarse_windows(U_coarse, old_coarse, theta, fine, ids, imposed))
+
+    def _rims(self):
+        """The parts of a block's rim of ``RIM`` fine cells, each ``(coarse
+        window, fine cells)``: per axis (x first) a slice of the coarse
+        window (one cell around the footprint) and the slice of the block's
+        cells its interior's children fill. 2D: the rows along y's two sides,
+        then the columns along x's sides between them; 1D: the two ends."""
+        half, r = self.layout.block // 2, RIM // 2
+        lo, hi = (slice(0, r + 2), slice(0, RIM)), (slice(half - r, half + 2), slice(2 * half - RIM, 2 * half))
+        whole, inner = (slice(0, half + 2), slice(0, 2 * half)), (slice(r, half + 2 - r), slice(RIM, 2 * half - RIM))
+        if self.layout.dim == 1:
+            return (lo,), (hi,)
+        return (whole, lo), (whole, hi), (lo, inner), (hi, inner)
+
+    def rims_filled(self, U_fine, U_coarse, old_coarse, theta, fine: int, ids, count, imposed=None):
+        """``U_fine`` with the rims of its first ``count`` blocks of the list
+        ``ids`` (the cells within :data:`RIM` of a side: all that the windows
+        of their active neighbours read) prolonged from the coarser level, as
+        :meth:`prolonged_blocks` would fill them; their inner cells are left
+        as they are (no window reads them)."""
+        if self.layout.block <= 2 * RIM:
+            return self.filled(U_fine, U_coarse, old_coarse, theta, fine, ids, count, imposed)
+
+        def fill(chunk, U):
+            window, shift = self._coarse_windows(U_coarse, old_coarse, theta, fine, chunk, imposed)
+            for part in self._rims():
+                coarse = (slice(None),) + tuple(c for c, _ in part[::-1])  # (laid out ([y,] x))
+                cells = (chunk,) + tuple(f for _, f in part[::-1])
+                x = part[0][0]  # the parents' shifts along x: those of the part's interior columns
+                children = self._prolonged(tuple(w[coarse] for w in window),
+                                           None if shift is None else shift[:, x.start:x.stop - 2])
+                U = tuple(u.at[cells].set(c, mode="drop") for u, c in zip(U, children))
+            return U
+
+        return over_chunks(ids, count, fill, U_fine)
 
     def refluxed(self, U_coarse, flux_coarse, register, maps_fine, fine: int, ids, count):
         """``U_coarse`` with every coarse cell next to a fine block of ``ids``
@@ -293,7 +346,7 @@ class Levels:
         coarser level at ``(1 − θ) old + θ U`` (θ = 1: ``U`` alone)."""
         ids, count = H.halo[fine]
         old = None if isinstance(theta, float) and theta == 1.0 else H.old[fine - 1]
-        U = self.filled(H.U[fine], H.U[fine - 1], old, theta, fine, ids, count, imposed)
+        U = self.rims_filled(H.U[fine], H.U[fine - 1], old, theta, fine, ids, count, imposed)
         return H._replace(U=with_level(H.U, fine, U))
 
     # --- regridding ------------------------------------------------------------------------------------
