@@ -9,7 +9,7 @@ The names below load :mod:`~partmesh.compare.schema` and
 from it, stays light.
 """
 
-import importlib
+from partmesh.compare.lazy import lazy_names
 
 #: name -> "module:attribute", loaded when first used
 _LAZY = {
@@ -21,19 +21,6 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    """A name of ``_LAZY``, imported on its first use and kept."""
-    if name not in _LAZY:
-        raise AttributeError(f"module 'partmesh.compare' has no attribute {name!r}")
-    module, _, attribute = _LAZY[name].partition(":")
-    value = getattr(importlib.import_module(module), attribute)
-    globals()[name] = value  # (looked up once)
-    return value
-
-
-def __dir__() -> list[str]:
-    """The package's names, those not yet loaded among them."""
-    return sorted({*globals(), *_LAZY})
-
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 __all__ = ["SchemaError", "read", "result", "validate", "write"]

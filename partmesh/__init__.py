@@ -23,9 +23,8 @@ script or ``partmesh --help`` does not pay for xarray, pandas, SciPy and
 matplotlib before it needs them.
 """
 
-import importlib
-
 from partmesh.cases.errors import InputError, SolverFailed, Unsupported
+from partmesh.compare.lazy import lazy_names
 
 #: name -> "module:attribute" (or "module", for a module), loaded when first used
 _LAZY = {
@@ -59,19 +58,15 @@ _LAZY = {
 }
 
 
+_lazy_getattr, _lazy_dir = lazy_names(__name__, _LAZY, globals())
+
+
 def __getattr__(name: str):
     """A name of ``_LAZY`` (or ``__version__``), imported on its first use and kept."""
     if name == "__version__":
-        value = __getattr__("version")()
-    elif name in _LAZY:
-        module, _, attribute = _LAZY[name].partition(":")
-        value = importlib.import_module(module)
-        if attribute:
-            value = getattr(value, attribute)
-    else:
-        raise AttributeError(f"module 'partmesh' has no attribute {name!r}")
-    globals()[name] = value  # (looked up once)
-    return value
+        globals()[name] = _lazy_getattr("version")()
+        return globals()[name]
+    return _lazy_getattr(name)
 
 
 def methods() -> list[str]:
@@ -81,7 +76,7 @@ def methods() -> list[str]:
 
 def __dir__() -> list[str]:
     """The package's names, those not yet loaded among them."""
-    return sorted({*globals(), *_LAZY, "__version__"})
+    return sorted({*_lazy_dir(), "__version__"})
 
 
 __all__ = [

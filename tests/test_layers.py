@@ -22,6 +22,8 @@ FOLDERS = {"compare": ("partmesh.compare", 0), "cases": ("partmesh.cases", 1), "
 LAZY = {
     "distributed": "Dask's scheduler and workers start only for sweeps, ensembles and studies (about 1 s to import)",
     "numba": "a Dask worker sets its numba threads before the run's kernels load",
+    "scipy": "the Sedov energy integral's quadrature: the exact solutions a run's scene loads stay without SciPy "
+             "(about 0.5 s)",
     "jax": "bench reads the device JAX runs on, and JAX loads only when a grid method runs",
 }
 #: package -> {module its ``_LAZY`` table loads on first use: why not at ``import``} (see test_import.py)
@@ -40,6 +42,15 @@ ON_FIRST_USE = {
         "partmesh.cluster": "the checkpoint machinery and the schema (xarray), for runs on Dask",
         "partmesh.demo": "reports (matplotlib), for the demo command only",
         "partmesh.ensembles": "the registry and the checkpoint machinery (xarray), for runs on Dask",
+    },
+    "partmesh.compare.exact": {
+        "partmesh.compare.exact.kingery_bulmash": "the surface-burst fits, for the blast scenes' references",
+        "partmesh.compare.exact.shocks": "SciPy (root finding), for the shock tube's and blast inflow's states",
+        "partmesh.compare.exact.stoker_ritter": "SciPy (root finding), for the dam-break references",
+        "partmesh.compare.exact.water": "SciPy (Bessel functions), for the wave references",
+    },
+    "partmesh.compare.metrics": {
+        "partmesh.compare.metrics.probe_series": "SciPy (root finding), for the probe-series measures",
     },
     "partmesh.compare": {
         "partmesh.compare.schema": "xarray and pandas, which partmesh.compare.checks (InputError) does not need",

@@ -16,36 +16,43 @@ Functions that describe fields return a Dataset in the partmesh schema with
 ``method = "exact"``, so an exact answer compares like a run.
 """
 
-from partmesh.compare.exact import kingery_bulmash
 from partmesh.compare.exact.noh import noh, noh_profile
 from partmesh.compare.exact.riemann import riemann, sample, star_state
 from partmesh.compare.exact.sedov import sedov, sedov_alpha, sedov_profile, shock_radius
-from partmesh.compare.exact.shocks import (
-    BLASTS,
-    driver_pressure,
-    friedlander,
-    max_deflection,
-    normal_shock,
-    rankine_hugoniot_inflow,
-    reflected_shock,
-    reflection_coefficient,
-    theta_beta_mach,
-)
-from partmesh.compare.exact.stoker_ritter import DamBreakState, dam_break, dam_break_profile, dam_break_state
-from partmesh.compare.exact.water import (
-    CRATER_GAUGES,
-    PRINS_GAUGES,
-    Crater,
-    Gaussian,
-    InitialShape,
-    Mound,
-    dispersion,
-    group_velocity,
-    linear_wave_fields,
-    linear_waves,
-    standing_wave,
-    standing_wave_fields,
-)
+from partmesh.compare.lazy import lazy_names
+
+#: name -> "module:attribute" (or "module"), loaded when first used (SciPy); the solutions named like
+#: their modules load at import, so that importing such a module cannot shadow its function
+_LAZY = {
+    "kingery_bulmash": "partmesh.compare.exact.kingery_bulmash",
+    "BLASTS": "partmesh.compare.exact.shocks:BLASTS",
+    "driver_pressure": "partmesh.compare.exact.shocks:driver_pressure",
+    "friedlander": "partmesh.compare.exact.shocks:friedlander",
+    "max_deflection": "partmesh.compare.exact.shocks:max_deflection",
+    "normal_shock": "partmesh.compare.exact.shocks:normal_shock",
+    "rankine_hugoniot_inflow": "partmesh.compare.exact.shocks:rankine_hugoniot_inflow",
+    "reflected_shock": "partmesh.compare.exact.shocks:reflected_shock",
+    "reflection_coefficient": "partmesh.compare.exact.shocks:reflection_coefficient",
+    "theta_beta_mach": "partmesh.compare.exact.shocks:theta_beta_mach",
+    "DamBreakState": "partmesh.compare.exact.stoker_ritter:DamBreakState",
+    "dam_break": "partmesh.compare.exact.stoker_ritter:dam_break",
+    "dam_break_profile": "partmesh.compare.exact.stoker_ritter:dam_break_profile",
+    "dam_break_state": "partmesh.compare.exact.stoker_ritter:dam_break_state",
+    "CRATER_GAUGES": "partmesh.compare.exact.water:CRATER_GAUGES",
+    "Crater": "partmesh.compare.exact.water:Crater",
+    "Gaussian": "partmesh.compare.exact.water:Gaussian",
+    "InitialShape": "partmesh.compare.exact.water:InitialShape",
+    "Mound": "partmesh.compare.exact.water:Mound",
+    "PRINS_GAUGES": "partmesh.compare.exact.water:PRINS_GAUGES",
+    "dispersion": "partmesh.compare.exact.water:dispersion",
+    "group_velocity": "partmesh.compare.exact.water:group_velocity",
+    "linear_wave_fields": "partmesh.compare.exact.water:linear_wave_fields",
+    "linear_waves": "partmesh.compare.exact.water:linear_waves",
+    "standing_wave": "partmesh.compare.exact.water:standing_wave",
+    "standing_wave_fields": "partmesh.compare.exact.water:standing_wave_fields",
+}
+
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 __all__ = [
     "BLASTS",

@@ -34,7 +34,6 @@ from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
-from scipy.integrate import quad
 
 from partmesh.compare.exact._inputs import (
     axis,
@@ -124,6 +123,8 @@ def _similarity(k: _Sedov, s):
 @lru_cache(maxsize=64)
 def _alpha(gamma: float, j: int) -> float:
     """alpha = sigma_j 8/((gamma+1)(gamma-1)(j+2)^2) int_0^1 (f^2 g + h) lambda^(j-1) d lambda."""
+    from scipy.integrate import quad  # (SciPy loads with the first Sedov energy integral)
+
     k = _constants(gamma, j)
 
     def integrand(s):

@@ -11,21 +11,26 @@ The measures live in modules named after them; this package gathers
 their public names.
 """
 
+from partmesh.compare.lazy import lazy_names
 from partmesh.compare.metrics.conservation import conservation_drift
 from partmesh.compare.metrics.field_errors import NORMS, errors, field_error
 from partmesh.compare.metrics.oblique_shock import oblique_shock_angle
-from partmesh.compare.metrics.probe_series import (
-    arrival_time,
-    first_crest,
-    peak,
-    plateau,
-    positive_phase,
-    running_peak,
-    shock_fitted_peak,
-)
 from partmesh.compare.metrics.schlieren import schlieren
 from partmesh.compare.metrics.shock_position import ring_profile, shock_position, shock_radius
 from partmesh.compare.metrics.units import MEASURED_UNITS, measured_unit
+
+#: name -> "module:attribute", loaded when first used (SciPy)
+_LAZY = {
+    "arrival_time": "partmesh.compare.metrics.probe_series:arrival_time",
+    "first_crest": "partmesh.compare.metrics.probe_series:first_crest",
+    "peak": "partmesh.compare.metrics.probe_series:peak",
+    "plateau": "partmesh.compare.metrics.probe_series:plateau",
+    "positive_phase": "partmesh.compare.metrics.probe_series:positive_phase",
+    "running_peak": "partmesh.compare.metrics.probe_series:running_peak",
+    "shock_fitted_peak": "partmesh.compare.metrics.probe_series:shock_fitted_peak",
+}
+
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 __all__ = [
     "MEASURED_UNITS",
