@@ -153,7 +153,7 @@ class Recorder:
 
 
 recorder = Recorder()
-code = pytest.main(["--collect-only", "-q", "-p", "no:cacheprovider", str(TESTS)], plugins=[recorder])
+code = pytest.main(["--collect-only", "-q", "-p", "no:cacheprovider", "-n", "0", str(TESTS)], plugins=[recorder])
 Path(sys.argv[1]).write_text(json.dumps({"code": int(code), "selected": [record(i) for i in recorder.selected],
                                          "left_out": [record(i) for i in recorder.left_out]}))
 '''
