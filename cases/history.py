@@ -90,6 +90,21 @@ RING_LOADS = (("wall_force", "N", "force on the target wall over its whole ring,
               ("wall_impulse", "N s", "wall impulse over the whole ring, time integral of wall_force"))
 
 
+@dataclass(frozen=True)
+class Output:
+    """What a run's record hands its Dataset (:meth:`RunRecord.output`):
+    the ``fields`` on the output grid (name -> values over time and the
+    grid), the output grid's ``solid`` mask (None: no body), the ``scheme``
+    in words, the ``n_elements`` (cells or particles) and the method's own
+    ``attrs``."""
+
+    fields: dict
+    solid: np.ndarray | None
+    scheme: str
+    n_elements: int
+    attrs: dict = field(default_factory=dict)
+
+
 class RunRecord(ABC):
     """What every solver keeps of a run: the output frames, the step
     history, the step count and the cost; and how it becomes a schema
@@ -181,21 +196,21 @@ class RunRecord(ABC):
         fields, scheme and attributes through :meth:`output`."""
         wall = _time.perf_counter() - self.t_start
         scene, out = self.scene, self.scene.output
-        fields, solid, scheme, n_elements, attrs = self.output()
+        output = self.output()
         t_probe = out.probe_times(self.frame_times[-1], scene.t_start)
         series = self.history.series(scene, t_probe)
-        attrs = {**attrs, **self.drift(), "status": status, "geometry": scene.geometry}
+        attrs = {**output.attrs, **self.drift(), "status": status, "geometry": scene.geometry}
         if scene.t_start:  # a run that starts from a state computed before says from what
             attrs.update(t_start=scene.t_start, started_from=scene.parameters.get("started_from", ""))
         if failure:
             attrs["failure"] = failure
         ds = result(
-            case=scene.name, method=self.method, scheme=scheme,
-            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=fields, solid=solid,
+            case=scene.name, method=self.method, scheme=output.scheme,
+            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=output.fields, solid=output.solid,
             probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
             t_probe=t_probe if series else None, series=series,
             parameters={"scene": scene.to_dict(), "solver": self.settings},
-            dx=self.settings["dx"], n_elements=n_elements, n_steps=self.n_steps, wall_seconds=wall,
+            dx=self.settings["dx"], n_elements=output.n_elements, n_steps=self.n_steps, wall_seconds=wall,
             compile_seconds=self.compile_seconds, frame_seconds=np.asarray(self.frame_seconds), **attrs,
         )
         if scene.geometry == "axisymmetric":  # a wall of revolution: its whole ring
@@ -205,6 +220,5 @@ class RunRecord(ABC):
         return ds
 
     @abstractmethod
-    def output(self):
-        """``(fields on the output grid, solid mask or None, scheme, n_elements,
-        extra attrs)`` of the frames kept so far."""
+    def output(self) -> Output:
+        """The :class:`Output` of the frames kept so far."""

@@ -56,6 +56,30 @@ class Stretch:
             self.steps = len(self.times)
 
 
+@dataclass(frozen=True)
+class Start:
+    """Where a run starts: its ``state`` at time ``t`` and that state's
+    stable step ``dt_cfl`` (``inf`` where a method's step finds its own)."""
+
+    state: object
+    t: float
+    dt_cfl: float = float("inf")
+
+
+@dataclass(frozen=True)
+class Stepping:
+    """What a method hands the loop besides its start: ``advance(state, t,
+    dt_cfl, t_out, n_max, dt_floor) -> Stretch``, a stretch of steps
+    (``advance.n_records`` bounds it); ``saved_state(state, t, dt_cfl)``,
+    the dict a checkpoint keeps; and ``diagnose(state, t, step, dt,
+    failed)``, the one sentence on when, where and what a failed step ends
+    with (None: only a collapsed stable step is told)."""
+
+    advance: Callable
+    saved_state: Callable
+    diagnose: Callable | None = None
+
+
 class StepFailed(Exception):
     """Raised by a method's step that cannot go on (an unstable or
     non-physical state it diagnosed itself); the message says when, where
@@ -89,27 +113,27 @@ class StretchSizer:
             self.n = int(np.clip(STRETCH_SECONDS * steps / max(seconds, 1e-9), 1, self.limit))
 
 
-def march(run, state, t: float, dt_cfl: float, advance: Callable, ckpt, saved_state, settings, diagnose=None):
-    """Advance ``state`` from ``t`` to ``settings.t_end`` in stretches of
-    ``advance`` (see the module docstring; ``advance.n_records`` bounds a
-    stretch), with a progress bar unless ``settings.progress`` is False,
-    and return the run's Dataset.
+def march(run, start: Start, stepping: Stepping, ckpt, settings):
+    """Advance a run from its ``start`` to ``settings.t_end`` in stretches
+    of ``stepping.advance`` (see the module docstring), with a progress bar
+    unless ``settings.progress`` is False, and return the run's Dataset.
 
     At every output time the run keeps a frame (``run.output_frame(state)``);
     every stretch's records go to ``run.history``; ``run.state`` and
     ``run.t`` hold the last good state, ``run.totals0`` the conserved
-    totals of the first. ``dt_cfl`` is the stable step of
-    ``state`` (``inf`` where a method's step finds its own). A step that
-    raises :class:`StepFailed`, turns the state non-physical (NaN stable
-    step) or lets the stable step collapse below ``DT_FLOOR · t_end`` stops
-    the run: :class:`~partmesh.cases.errors.SolverFailed` carries the result up to
-    the last good state, with the step's message or ``diagnose(state, t,
-    step, dt, failed) -> str``, one sentence on when, where and what (the
-    step ``dt`` made the state non-physical: ``failed``; or the stable step
-    collapsed to ``dt``). ``ckpt`` (:mod:`partmesh.cases.checkpoint`) saves
-    ``saved_state(state, t, dt_cfl)`` (a dict) between stretches.
+    totals of the first. A step that raises :class:`StepFailed`, turns the
+    state non-physical (NaN stable step) or lets the stable step collapse
+    below ``DT_FLOOR · t_end`` stops the run:
+    :class:`~partmesh.cases.errors.SolverFailed` carries the result up to
+    the last good state, with the step's message or ``stepping.diagnose``'s
+    sentence (the step ``dt`` made the state non-physical: ``failed``; or
+    the stable step collapsed to ``dt``). ``ckpt``
+    (:mod:`partmesh.cases.checkpoint`) saves ``stepping.saved_state``
+    between stretches.
     """
-    diagnose, t_end = diagnose or _collapsed, settings.t_end
+    state, t, dt_cfl = start.state, start.t, start.dt_cfl
+    advance, saved_state = stepping.advance, stepping.saved_state
+    diagnose, t_end = stepping.diagnose or _collapsed, settings.t_end
     out_times = output_times(run.scene, t_end)
     bar = run.progress_bar(t, t_end, settings.progress)
     sizer, floor = StretchSizer(advance.n_records), DT_FLOOR * t_end

@@ -53,8 +53,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
-from partmesh.cases.history import History, RunRecord
-from partmesh.cases.march import march, single_steps
+from partmesh.cases.history import History, Output, RunRecord
+from partmesh.cases.march import Start, Stepping, march, single_steps
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.setup import inflow_states, initial_state, scheme_for
 from partmesh.gridref.euler.state import primitive
@@ -356,7 +356,7 @@ def solve(scene, settings: HybridSettings):
                 "counts": {name: getattr(coupling, name) for name in COUNTS},
                 "sph_seconds": dict(sph.seconds), "force_interactions": sph.force_interactions}
 
-    return march(run, S, t, dt_cfl, single_steps(step), ckpt, saved_state, settings, diagnose)
+    return march(run, Start(S, t, dt_cfl), Stepping(single_steps(step), saved_state, diagnose), ckpt, settings)
 
 
 class _Run(RunRecord):
@@ -398,7 +398,7 @@ class _Run(RunRecord):
             grids = np.where(where & np.isfinite(sph), sph, grids)
         return dict(zip(scene.fields, grids))
 
-    def output(self):
+    def output(self) -> Output:
         s, c = self.settings, self.coupling
         fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"hybrid: unsplit MUSCL-Hancock ({s['limiter']}, {s['riemann'].upper()}) on cells "
@@ -412,4 +412,4 @@ class _Run(RunRecord):
                  **{f"seconds_{name}": seconds for name, seconds in c.sph.counters[0].items()},
                  "deposition": "grid fields linearly interpolated; Shepard interpolation of the particles "
                                "in the cells that hold them"}
-        return fields, None, scheme, c.n_cells + c.most_particles, attrs
+        return Output(fields, None, scheme, c.n_cells + c.most_particles, attrs)

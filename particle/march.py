@@ -5,9 +5,7 @@ the particles of the last good state where the settings ask for them."""
 
 from __future__ import annotations
 
-import numpy as np
-
-from partmesh.cases.march import march, single_steps
+from partmesh.cases.march import Start, Stepping, march, single_steps
 from partmesh.compare.io import write_particles
 from partmesh.particle.threads import threads_for
 
@@ -21,7 +19,7 @@ def march_particles(run, state, t: float, step, ckpt, saved_state, settings, par
     ``settings.particles`` if that names a file."""
     try:
         with threads_for(particles):
-            return march(run, state, t, np.inf, single_steps(step), ckpt, saved_state, settings)
+            return march(run, Start(state, t), Stepping(single_steps(step), saved_state), ckpt, settings)
     finally:
         if getattr(settings, "particles", None) is not None and run.state is not None:
             write_particles(snapshot(run.state, run.t), settings.particles)

@@ -27,8 +27,8 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_initial_state
-from partmesh.cases.history import History, RunRecord
-from partmesh.cases.march import march
+from partmesh.cases.history import History, Output, RunRecord
+from partmesh.cases.march import Start, Stepping, march
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.amr import blockmaps
 from partmesh.gridref.amr.hierarchy import GROWTH, Hierarchy, Levels, capacity_for, with_level
@@ -360,7 +360,7 @@ def run_refined(scene, settings: FVSettings, refined: Refined):
     def saved_state(H, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, H), "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, H, t, dt_cfl, advance, ckpt, saved_state, settings, diagnose)
+    return march(run, Start(H, t, dt_cfl), Stepping(advance, saved_state, diagnose), ckpt, settings)
 
 
 class _RefinedRun(RunRecord):
@@ -396,7 +396,7 @@ class _RefinedRun(RunRecord):
                     for name, i in (("mass", 0), ("energy", -1))}
         return {name: float(np.sum(np.asarray(H.U[0][i]) * volume)) for name, i in (("mass", 0), ("energy", -1))}
 
-    def output(self):
+    def output(self) -> Output:
         lay, s = self.layout, self.settings
         fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"unsplit MUSCL-Hancock, {s['limiter']} limiter on primitive variables, {s['riemann'].upper()} flux, "
@@ -413,4 +413,4 @@ class _RefinedRun(RunRecord):
         attrs = {"regrid": f"finest-level composite, {self.how}", "levels": lay.levels, "block": lay.block,
                  "blocks_max": blocks, "cells_max": cells_max, "cell_updates": float(H.updates),
                  "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass), "vacuum_floor_energy": float(energy)}
-        return fields, None, scheme, cells_max, attrs
+        return Output(fields, None, scheme, cells_max, attrs)

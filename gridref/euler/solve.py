@@ -8,8 +8,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
-from partmesh.cases.history import History, RunRecord
-from partmesh.cases.march import march
+from partmesh.cases.history import History, Output, RunRecord
+from partmesh.cases.march import Start, Stepping, march
 from partmesh.cases.scene import Inflow
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.method import FVSettings
@@ -66,7 +66,7 @@ def solve(scene, settings: FVSettings):
     def saved_state(state, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, state, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
+    return march(run, Start(state, t, dt_cfl), Stepping(stepper.stretch, saved_state, diagnose), ckpt, settings)
 
 
 def _probe_sampler(probe_idx, probe_w, gamma):
@@ -129,7 +129,7 @@ class _Run(RunRecord):
         weight = self.volume * revolved(U[0].shape, self.grid.step[0], GEOMETRIES[self.scene.geometry])
         return {name: float(np.sum(weight * np.asarray(U[i]))) * cell for name, i in (("mass", 0), ("energy", -1))}
 
-    def output(self):
+    def output(self) -> Output:
         scene, out, s = self.scene, self.scene.output, self.settings
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
@@ -149,4 +149,4 @@ class _Run(RunRecord):
         cells, mass, energy = self.floors
         attrs = {"regrid": how, "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass),
                  "vacuum_floor_energy": float(energy)}
-        return fields, solid_out, scheme, int(np.prod(self.grid.shape)), attrs
+        return Output(fields, solid_out, scheme, int(np.prod(self.grid.shape)), attrs)

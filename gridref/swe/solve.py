@@ -11,8 +11,8 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.errors import InputError
-from partmesh.cases.history import History, RunRecord
-from partmesh.cases.march import march
+from partmesh.cases.history import History, Output, RunRecord
+from partmesh.cases.march import Start, Stepping, march
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.device_loop import device_loop
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, mesh, solver_grid
@@ -124,7 +124,7 @@ def solve(scene, settings: SWESettings):
     def saved_state(U, t, dt_cfl):
         return {"U": [np.asarray(a) for a in U], "t": t, "dt_cfl": dt_cfl}
 
-    return march(run, U, t, dt_cfl, stepper.stretch, ckpt, saved_state, settings, diagnose)
+    return march(run, Start(U, t, dt_cfl), Stepping(stepper.stretch, saved_state, diagnose), ckpt, settings)
 
 
 class _Run(RunRecord):
@@ -155,7 +155,7 @@ class _Run(RunRecord):
                     f"at {at}; lower cfl (now {self.settings['cfl']:g}; the depth is kept non-negative up to 0.25).")
         return f"swe time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {step})."
 
-    def output(self):
+    def output(self) -> Output:
         scene, out, s = self.scene, self.scene.output, self.settings
         src = cell_centres(self.grid)
         pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
@@ -166,4 +166,4 @@ class _Run(RunRecord):
         scheme = (f"{geometry} shallow water: MUSCL-Hancock ({s['limiter']} limiter on h, eta, velocity), "
                   f"hydrostatic reconstruction (Audusse et al. 2004), HLLC flux, {s['precision']}")
         long_names = {"u": "depth-averaged velocity x", "v": "depth-averaged velocity y"}
-        return fields, None, scheme, int(np.prod(self.grid.shape)), {"regrid": how, "long_names": long_names}
+        return Output(fields, None, scheme, int(np.prod(self.grid.shape)), {"regrid": how, "long_names": long_names})

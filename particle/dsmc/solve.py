@@ -44,7 +44,7 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.errors import InputError
-from partmesh.cases.history import History, RunRecord
+from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import landed
 from partmesh.cases.shape_factories import square
 from partmesh.particle.dsmc.axisymmetric import fill_factor, radial_flight, resampled_redraw, ring_weights
@@ -492,7 +492,7 @@ class _Run(RunRecord):
         super().restore(saved)
         self.sums = saved["sums"]
 
-    def output(self):
+    def output(self) -> Output:
         fields = {name: self.stacked(name) for name in self.scene.fields}
         s = self.settings
         about = (" about MC-limited linear profiles of the velocity and temperature across the cell"
@@ -515,4 +515,4 @@ class _Run(RunRecord):
                  "wall_pressure": "reflecting sides: momentum delivered by the particles; other sides: the "
                                   "adjacent cell's pressure; probes: the pressure of the cell holding them, freed "
                                   "of the bias of one sample's thermal energy" + shell_note}
-        return fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs
+        return Output(fields, self.solid, scheme, int(self.gas.x.shape[0]), attrs)

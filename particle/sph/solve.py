@@ -19,7 +19,7 @@ import xarray as xr
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_obstacles
 from partmesh.cases.errors import SolverFailed
-from partmesh.cases.history import History, RunRecord
+from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import StepFailed, landed
 from partmesh.cases.scene import Inflow
 from partmesh.compare.io import particle_snapshot
@@ -277,7 +277,7 @@ class _Run(RunRecord):
             grids[:, self.solid] = np.nan
         return dict(zip(scene.fields, grids))
 
-    def output(self):
+    def output(self) -> Output:
         s = self.settings
         fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d)), Cullen-Dehnen viscosity "
@@ -291,4 +291,4 @@ class _Run(RunRecord):
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],
                  **{f"seconds_{name}": seconds for name, seconds in self.sph.counters[0].items()}}
-        return fields, self.solid, scheme, self.n_particles, attrs
+        return Output(fields, self.solid, scheme, self.n_particles, attrs)

@@ -30,7 +30,7 @@ import numba
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
-from partmesh.cases.history import History, RunRecord
+from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import StepFailed, landed
 from partmesh.compare.io import particle_snapshot
 from partmesh.particle import kernels
@@ -295,7 +295,7 @@ class _Run(RunRecord):
         super().restore(saved)
         self.reflections, self.energies = saved["reflections"], saved["energies"]
 
-    def output(self):
+    def output(self) -> Output:
         s, sph = self.settings, self.sph
         fields = {name: self.stacked(name) for name in self.scene.fields}
         scheme = (f"weakly compressible SPH in the (x, z) slice: Tait EOS (c0 = {sph.eos.c0:.4g} m/s), quintic "
@@ -310,4 +310,4 @@ class _Run(RunRecord):
                  "total_energy": np.array([e for _, e in self.energies]),
                  "total_energy_time": np.array([t for t, _ in self.energies]),
                  "long_names": {"u": "depth-averaged velocity x"}}
-        return fields, None, scheme, self.n_particles, attrs
+        return Output(fields, None, scheme, self.n_particles, attrs)
