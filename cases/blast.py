@@ -8,6 +8,7 @@ import numpy as np
 
 from partmesh.cases import checks, shape_factories, shape_queries
 from partmesh.cases.disc import disc_density, disc_fraction
+from partmesh.cases.errors import InputError
 from partmesh.cases.scene import Inflow, OutputGrid, Probe, Scene, Wall
 from partmesh.compare import exact, metrics
 
@@ -244,21 +245,21 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     trap_gap = checks.non_negative("trap_gap", trap_gap)
     one_period = bool(checks.choice("one_period", one_period, (False, True)))
     if trap_gap > 0.0 and layers % 2:
-        raise checks.InputError(f"a trap_gap splits the layers into two equal sets: layers must be even, got {layers}.")
+        raise InputError(f"a trap_gap splits the layers into two equal sets: layers must be even, got {layers}.")
     width = ROW_PITCH * rows
     rods = array_rods(shape, arrangement, 1 if one_period else rows, layers, column_pitch, size, standoff, trap_gap,
                       length)
     for k, rod in enumerate(rods):
         if any(shape_queries.overlaps(rod, other) for other in rods[k + 1:]):
-            raise checks.InputError(f"column_pitch = {column_pitch:g} m is too small for {shape} rods of size "
+            raise InputError(f"column_pitch = {column_pitch:g} m is too small for {shape} rods of size "
                                     f"{size:g} m ({arrangement}): neighbouring columns overlap.")
     upstream = min(rod.bounds()[0] for rod in rods)
     if upstream <= 0.35 * length:
-        raise checks.InputError(f"the array starts at x = {upstream:.4g} m, upstream of the probe u at "
+        raise InputError(f"the array starts at x = {upstream:.4g} m, upstream of the probe u at "
                                 f"{0.35 * length:g} m: use fewer layers, a smaller column_pitch or trap_gap, or a "
                                 "smaller standoff.")
     if standoff <= 0.15 * length:
-        raise checks.InputError(f"standoff = {standoff:g} m puts the array over the probe d at {0.85 * length:g} m: "
+        raise InputError(f"standoff = {standoff:g} m puts the array over the probe d at {0.85 * length:g} m: "
                                 f"use standoff > {0.15 * length:g} m.")
     computed = ROW_PITCH if one_period else width
     return _blast_channel(
@@ -293,7 +294,7 @@ def blast_kt(kt=1.0, r_c=1.0, rho_c=1000.0, rho0=1.225, p0=1.02e5, gamma=1.4, ha
     L, t_end = checks.positive("half_width", half_width), checks.positive("t_end", t_end)
     n_out = checks.integer("n_out", n_out, 16)
     if not r_c < 0.5 * L:
-        raise checks.InputError(f"r_c must be below half of half_width ({0.5 * L:g} m); got {r_c:g} m.")
+        raise InputError(f"r_c must be below half of half_width ({0.5 * L:g} m); got {r_c:g} m.")
     energy = kt * KILOTON
     domain = ((0.0, L), (0.0, L))
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from partmesh.cases import checks
 from partmesh.cases.ball import ball_density, shells_remapped
+from partmesh.cases.errors import InputError
 from partmesh.cases.scene import OutputGrid, Precursor, Probe, Scene
 from partmesh.compare import exact, metrics
 from partmesh.compare.exact.kingery_bulmash import blast_parameters
@@ -201,7 +202,7 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     scale = W ** (1.0 / 3.0)
     L = EXTENT * scale
     if start == "remap" and not t_end > T_REMAP * scale:
-        raise checks.InputError(f"t_end must be later than {T_REMAP * scale:g} s, when a surface burst of W = {W:g} kg "
+        raise InputError(f"t_end must be later than {T_REMAP * scale:g} s, when a surface burst of W = {W:g} kg "
                                 f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((0.0, L), (0.0, L))

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from partmesh.cases.errors import InputError
 from partmesh.cases.parts import Inflow
 from partmesh.cases.shape_queries import overlaps
 from partmesh.compare.checks import (
-    InputError,
     choice,
     flag,
     in_range,
@@ -18,7 +18,7 @@ from partmesh.compare.checks import (
     positive,
 )
 
-__all__ = ["GAS_GEOMETRIES", "InputError", "check_geometry", "check_scene", "choice", "flag", "in_range", "integer",
+__all__ = ["GAS_GEOMETRIES", "check_geometry", "check_scene", "choice", "flag", "in_range", "integer",
            "non_negative", "number", "positive"]
 
 

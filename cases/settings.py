@@ -23,7 +23,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Callable, ClassVar
 
-from partmesh.compare.checks import InputError, choice, flag, in_range, integer, positive
+from partmesh.cases.errors import InputError
+from partmesh.compare.checks import choice, flag, in_range, integer, positive
 
 #: settings that say how a run reports and where it checkpoints, not what it computes
 RUN_CONTROLS = ("progress", "checkpoint", "checkpoint_every", "resume", "particles")

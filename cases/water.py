@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from partmesh.cases import checks
+from partmesh.cases.errors import InputError
 from partmesh.cases.scene import OutputGrid, Probe, WaterScene
 from partmesh.compare import exact, metrics
 
@@ -15,14 +16,14 @@ def dam_break(h_left=1.0, h_right=0.1, length=10.0, x0=5.0, t_end=0.6, nx_out=80
     same dam across a square basin, walls at y = 0 and y = length (the flow stays one-dimensional)."""
     h_left, h_right = checks.positive("h_left", h_left), checks.non_negative("h_right", h_right)
     if not h_right < h_left:
-        raise checks.InputError(f"h_right must be below h_left = {h_left:g} m, got {h_right:g} m.")
+        raise InputError(f"h_right must be below h_left = {h_left:g} m, got {h_right:g} m.")
     length, t_end, g = checks.positive("length", length), checks.positive("t_end", t_end), checks.positive("g", g)
     x0 = checks.in_range("x0", x0, 0.0, length, lo_open=True, hi_open=True)
     nx_out, dim = checks.integer("nx_out", nx_out, 10), checks.integer("dim", dim, 1, 2)
     # the fastest waves (rarefaction head, bore or dry front) must stay inside the domain
     state = exact.dam_break_state(h_left, h_right, g)
     if x0 + state.front_speed * t_end >= length or x0 + state.head_speed * t_end <= 0.0:
-        raise checks.InputError(f"t_end = {t_end:g} s lets the waves of the dam break leave [0, {length:g}] m: "
+        raise InputError(f"t_end = {t_end:g} s lets the waves of the dam break leave [0, {length:g}] m: "
                                 f"use t_end <= {min((length - x0) / state.front_speed, -x0 / state.head_speed):.4g} s.")
     domain = ((0.0, length),) * dim
     output = OutputGrid(domain=domain, shape=(nx_out,) * dim, times=(0.5 * t_end, t_end), dt_probe=t_end / 400)
@@ -84,7 +85,7 @@ def standing_wave(amplitude=0.005, depth=0.5, length=1.0, mode=1, t_end=3.0, nx_
     length, t_end, g = checks.positive("length", length), checks.positive("t_end", t_end), checks.positive("g", g)
     mode, nx_out = checks.integer("mode", mode, 1), checks.integer("nx_out", nx_out, 10)
     if not amplitude <= 0.1 * depth:
-        raise checks.InputError(f"amplitude must be at most a tenth of the depth ({0.1 * depth:g} m) for linear "
+        raise InputError(f"amplitude must be at most a tenth of the depth ({0.1 * depth:g} m) for linear "
                                 f"theory to hold, got {amplitude:g} m.")
     k = mode * np.pi / length
     domain = ((0.0, length),)
@@ -174,11 +175,11 @@ def _checked_wave_scene(depth, length, t_end, nx_out, g, gauges):
     length = checks.positive("length", length)
     nx_out = checks.integer("nx_out", nx_out, 10)
     if not max(gauges) < length:
-        raise checks.InputError(f"length must exceed the farthest gauge ({max(gauges):g} m), got {length:g} m.")
+        raise InputError(f"length must exceed the farthest gauge ({max(gauges):g} m), got {length:g} m.")
     # no wave returns to a gauge from the far end within the run (even were the absorbing end a wall)
     horizon = max(gauges) + np.sqrt(g * depth) * t_end
     if horizon > 2 * length - max(gauges):
-        raise checks.InputError(f"length = {length:g} m lets a wave reflected at the far end reach the gauges before "
+        raise InputError(f"length = {length:g} m lets a wave reflected at the far end reach the gauges before "
                                 f"t_end = {t_end:g} s: use length >= {0.5 * (horizon + max(gauges)):.4g} m.")
     return depth, length, t_end, nx_out, g
 
@@ -186,10 +187,10 @@ def _checked_wave_scene(depth, length, t_end, nx_out, g, gauges):
 def _prins(name, Q, L, depth, length, t_end, nx_out, g):
     Q, L = checks.number("Q", Q), checks.positive("L", L)
     if Q == 0.0:
-        raise checks.InputError("Q must be non-zero (the height of the released box of water).")
+        raise InputError("Q must be non-zero (the height of the released box of water).")
     depth, length, t_end, nx_out, g = _checked_wave_scene(depth, length, t_end, nx_out, g, exact.PRINS_GAUGES)
     if not -Q < depth:
-        raise checks.InputError(f"Q must be above -depth = {-depth:g} m (water left in the box), got {Q:g} m.")
+        raise InputError(f"Q must be above -depth = {-depth:g} m (water left in the box), got {Q:g} m.")
     return _linear_wave_scene(
         name, exact.Mound(Q, L), "planar", depth, length, exact.PRINS_GAUGES, t_end, nx_out, g,
         dict(Q=Q, L=L, depth=depth, length=length, t_end=t_end, nx_out=nx_out, g=g),
@@ -203,7 +204,7 @@ def cavity_collapse(D_c=0.3, R_c=0.6, depth=1.0, geometry="planar", length=25.0,
     geometry = checks.choice("geometry", geometry, ("planar", "radial"))
     depth, length, t_end, nx_out, g = _checked_wave_scene(depth, length, t_end, nx_out, g, exact.CRATER_GAUGES)
     if not D_c < depth:
-        raise checks.InputError(f"D_c must be below depth = {depth:g} m (the cavity's floor in the water), got {D_c:g} m.")
+        raise InputError(f"D_c must be below depth = {depth:g} m (the cavity's floor in the water), got {D_c:g} m.")
     return _linear_wave_scene(
         "cavity_collapse", exact.Crater(D_c, R_c), geometry, depth, length, exact.CRATER_GAUGES, t_end, nx_out, g,
         dict(D_c=D_c, R_c=R_c, depth=depth, geometry=geometry, length=length, t_end=t_end, nx_out=nx_out, g=g),

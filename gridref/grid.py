@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from jax_cfd.base import grids
 
-from partmesh.cases.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.compare.regrid import linear_weights
 
 

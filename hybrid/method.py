@@ -7,10 +7,10 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from partmesh.cases.checks import positive
+from partmesh.cases.errors import InputError
 from partmesh.cases.memory import elements_in, grid_cell_bytes
 from partmesh.cases.method import Memory, Method
 from partmesh.cases.settings import at_least, one_of, setting, within
-from partmesh.compare.checks import InputError
 from partmesh.gridref.euler.method import LIMITER_NAMES, RIEMANN_NAMES
 from partmesh.hybrid.cells import SENSORS
 from partmesh.particle.sph.method import SPHScheme

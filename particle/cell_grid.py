@@ -15,7 +15,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.particle.positions import box_corners, ordered_box, periodicity, positions
 
 __all__ = ["CELL_MARGIN", "cell_grid", "cell_ids", "cell_support", "counting_sort", "nearby_maximum", "sort_order"]

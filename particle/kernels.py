@@ -83,7 +83,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 
 __all__ = [
     "KERNELS",

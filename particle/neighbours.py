@@ -39,7 +39,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.particle.cell_grid import CELL_MARGIN, cell_grid, cell_ids, cell_support, counting_sort
 from partmesh.particle.pair_geometry import image, separations
 from partmesh.particle.positions import ordered_box, periodicity, positions

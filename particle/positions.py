@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 
 __all__ = ["box_corners", "ordered_box", "periodicity", "positions"]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.compare.deposit import cell_average, moments_to_primitive, shepard
 
 # --- kernels written here (the solver passes its own) -----------------------

@@ -5,7 +5,7 @@ mass, and their refusals outside the fitted range."""
 import numpy as np
 import pytest
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.compare.exact import kingery_bulmash as kb
 from partmesh.compare.exact.kingery_bulmash import blast_parameters, scaled_value
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.particle import kernels as K
 
 NAMES = list(K.KERNELS)

@@ -174,6 +174,18 @@ def test_modules_loaded_on_first_use_are_only_the_listed_ones():
         assert set(table) <= set(MODULES), package  # (a table names modules of the tree)
 
 
+def test_input_error_has_one_home_per_side_of_the_layers():
+    # (defined in compare, the layer every other imports; published for the rest by cases.errors)
+    homes = {m: "partmesh.compare.checks" if _layer(m)[1] == 0 else "partmesh.cases.errors" for m in MODULES}
+    elsewhere = []
+    for module, path in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if (isinstance(node, ast.ImportFrom) and any(a.name == "InputError" for a in node.names)
+                    and node.module != homes[module] and module != "partmesh.cases.errors"):
+                elsewhere.append(f"{module}:{node.lineno} imports InputError from {node.module}")
+    assert elsewhere == []
+
+
 def test_the_checker_sees_the_imports_it_judges():
     # (an empty graph would pass every test above)
     graph = _graph()

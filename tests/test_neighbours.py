@@ -9,7 +9,7 @@ import numba
 import numpy as np
 import pytest
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.particle.cell_grid import nearby_maximum, sort_order
 from partmesh.particle.neighbours import neighbour_lists, neighbours, renumbered
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from partmesh.compare.checks import InputError
+from partmesh.cases.errors import InputError
 from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
 
 

@@ -6,11 +6,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
+from partmesh.cases.errors import InputError
 from partmesh.cases.memory import elements_in, particle_bytes
 from partmesh.cases.method import Memory, Method
 from partmesh.cases.scene import Inflow
 from partmesh.cases.settings import Settings, one_of, optional_path, setting, within
-from partmesh.compare.checks import InputError
 from partmesh.particle.kernels import KERNELS
 
 #: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
