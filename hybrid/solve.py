@@ -45,7 +45,6 @@ One step of the coupled system, from t to t + Δt (Δt: the grid's CFL step):
 from __future__ import annotations
 
 import dataclasses
-import time as _time
 from dataclasses import dataclass
 
 import jax
@@ -53,6 +52,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.compiling import compiling
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import Start, Stepping, march, single_steps
 from partmesh.compare.regrid import to_output_grid
@@ -318,13 +318,13 @@ def solve(scene, settings: HybridSettings):
     sph = GasSPH(scene, kernel, eta, region, open_)
     coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings.threshold, sensor, settings.buffer,
                         Switches(alpha_max, alpha_min, alpha_u), settings.cfl_sph)
-    t0 = _time.perf_counter()
-    jax.block_until_ready(stepper.one_step(stepper.start(U), 0.0, 0.0))
-    # (the first evaluation compiles, or loads, the SPH kernels)
-    S = coupling.regrouped(U, None, np.zeros((0, scene.dim)), np.zeros(0), np.zeros(coupling.n_cells, bool))
-    if S.P is not None:
-        sph.compile_rest(S.P, S.E)
-    compile_seconds = _time.perf_counter() - t0
+    with compiling("hybrid", settings.progress) as compiled:
+        jax.block_until_ready(stepper.one_step(stepper.start(U), 0.0, 0.0))
+        # (the first evaluation compiles, or loads, the SPH kernels)
+        S = coupling.regrouped(U, None, np.zeros((0, scene.dim)), np.zeros(0), np.zeros(coupling.n_cells, bool))
+        if S.P is not None:
+            sph.compile_rest(S.P, S.E)
+    compile_seconds = compiled.seconds
     probe_points = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim]
     probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
     run = _Run(scene, coupling, settings.record(), compile_seconds,

@@ -27,6 +27,7 @@ import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_initial_state
+from partmesh.cases.compiling import GRID_SIZE, compiling
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import Start, Stepping, march
 from partmesh.compare.regrid import to_output_grid
@@ -340,7 +341,8 @@ def run_refined(scene, settings: FVSettings, refined: Refined):
         run.t_start += seconds  # (compile time is reported apart from the run's)
 
     advance = GrowingLoop(refined, n_probes, 2 * lay.dim, compiled)
-    advance.loop(H)
+    with compiling("fv", settings.progress, GRID_SIZE):
+        advance.loop(H)
     run.compile_seconds += _time.perf_counter() - started - run.compile_seconds
     run.t_start = _time.perf_counter()
     t = scene.t_start

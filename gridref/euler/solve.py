@@ -8,6 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.compiling import GRID_SIZE, compiling
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import Start, Stepping, march
 from partmesh.cases.scene import Inflow
@@ -47,7 +48,9 @@ def solve(scene, settings: FVSettings):
     probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
     stepper = _stepper_for(scene, scheme, U, ib, probe_pressure, (probe_idx.tobytes(), probe_w.tobytes()),
                            len(probe_w))
-    run = _Run(scene, grid, ib, settings.record(), compile_seconds=stepper.compile(U),
+    with compiling("fv", settings.progress, GRID_SIZE) as compiled:
+        stepper.compile(U)
+    run = _Run(scene, grid, ib, settings.record(), compile_seconds=compiled.seconds,
                history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start))
     t, state = scene.t_start, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))

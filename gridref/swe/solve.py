@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.compiling import GRID_SIZE, compiling
 from partmesh.cases.errors import InputError
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import Start, Stepping, march
@@ -108,7 +109,9 @@ def solve(scene, settings: SWESettings):
     gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
     stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight),
                       dtype)
-    run = _Run(scene, grid, z, settings.record(), stepper.compile(U),
+    with compiling("swe", settings.progress, GRID_SIZE) as compiled:
+        stepper.compile(U)
+    run = _Run(scene, grid, z, settings.record(), compiled.seconds,
                History(np.sum((h0 + z).ravel()[gauge_index] * gauge_weight, axis=-1), 2 * scene.dim))
     t, dt_cfl = 0.0, float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, settings)

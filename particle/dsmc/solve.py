@@ -37,12 +37,12 @@ even count per ring cell (:mod:`partmesh.particle.dsmc.axisymmetric`);
 
 from __future__ import annotations
 
-import time as _time
 
 import numba
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.compiling import compiling
 from partmesh.cases.errors import InputError
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import landed
@@ -82,9 +82,9 @@ def solve(scene, settings: DSMCSettings):
     (:mod:`partmesh.cases.checkpoint`; a resumed run is bit for bit an uninterrupted
     one)."""
     zeta = internal_degrees(scene.gamma)
-    t0 = _time.perf_counter()
-    _compile_kernels(scene.dim, zeta, settings.collisions, scene.geometry == "axisymmetric")
-    compile_seconds = _time.perf_counter() - t0
+    with compiling("dsmc", settings.progress) as compiled:
+        _compile_kernels(scene.dim, zeta, settings.collisions, scene.geometry == "axisymmetric")
+    compile_seconds = compiled.seconds
     gas = _Gas(scene, settings.dx, settings.ppc, zeta, settings.seed, settings.profile, settings.redraw, settings.cfl)
     if settings.collisions == "larsen-borgnakke":
         gas.collide_with(settings.mean_free_path, settings.omega, settings.z_rot, settings.cfl)

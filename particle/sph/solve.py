@@ -10,7 +10,6 @@ Time integration is the predictor–corrector leapfrog of
 
 from __future__ import annotations
 
-import time as _time
 
 import numba
 import numpy as np
@@ -18,6 +17,7 @@ import xarray as xr
 
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_obstacles
+from partmesh.cases.compiling import compiling
 from partmesh.cases.errors import SolverFailed
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import StepFailed, landed
@@ -74,19 +74,19 @@ def solve(scene, settings: SPHSettings):
     # virtual particles reach twice the initial support into the solids
     sph = GasSPH(scene, settings.kernel, eta, box, tuple(side for side, r in reach.items() if r == 0.0),
                  walls(scene, dx, 2.0 * eta * dx, box) if dim == 2 else None)
-    t0 = _time.perf_counter()
     # the first evaluation, switch update and interpolation compile (or load) the numba kernels, and
     # compile_rest those a run meets later
-    try:
-        E = sph.evaluate(P, P.x, P.v, P.u, _buffer(inflow, 0.0, eta, P.m[0]))
-    except FloatingPointError as err:
-        raise SolverFailed(f"sph failed on the initial state: {err}.") from None
-    P.alpha = cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
-    P.alpha_u = conduction_switch(P.alpha_u, E.lap_u, P.u, E.vsig, E.H, 1.0, alpha_u, 0.0)
-    sph.compile_rest(P, E)
-    sample_points = _sample_points(scene)
-    probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
-    compile_seconds = _time.perf_counter() - t0
+    with compiling("sph", settings.progress) as compiled:
+        try:
+            E = sph.evaluate(P, P.x, P.v, P.u, _buffer(inflow, 0.0, eta, P.m[0]))
+        except FloatingPointError as err:
+            raise SolverFailed(f"sph failed on the initial state: {err}.") from None
+        P.alpha = cullen_dehnen(P.alpha, E.div_v, E.div_v, E.curl_v, E.vsig, E.H, 1.0, alpha_max, alpha_min)
+        P.alpha_u = conduction_switch(P.alpha_u, E.lap_u, P.u, E.vsig, E.H, 1.0, alpha_u, 0.0)
+        sph.compile_rest(P, E)
+        sample_points = _sample_points(scene)
+        probes0 = _pressure_at(sph, P, E, sample_points)[: len(scene.probes)]
+    compile_seconds = compiled.seconds
     # the pass timings and counts exclude compilation
     sph.counters = {"search": 0.0, "density": 0.0, "forces": 0.0}, 0, 0
     P.H, P.rho = E.H, E.rho

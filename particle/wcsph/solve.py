@@ -30,6 +30,7 @@ import numba
 import numpy as np
 
 from partmesh.cases.checkpoint import checkpoint_for
+from partmesh.cases.compiling import compiling
 from partmesh.cases.history import History, Output, RunRecord
 from partmesh.cases.march import StepFailed, landed
 from partmesh.compare.io import particle_snapshot
@@ -209,11 +210,11 @@ def solve(scene, settings: WCSPHSettings):
     sph = WaterSPH(scene, slice_, eos, dx, settings.eta * dx, settings.alpha, settings.delta)
     sigma = lambda x: damping_rate(slice_, x, scene.g, scene.depth)  # noqa: E731
     gauges = np.array([pr.x for pr in scene.probes] or [scene.output.x[0]])
-    t0 = _time.perf_counter()
-    E = sph.evaluate(P.x, P.v, P.rho, P.m)  # compiles (or loads) the kernels, as do the sums below
-    h_gauges, _ = sph.columns(P, gauges)
-    sph.columns(P)
-    compile_seconds = _time.perf_counter() - t0
+    with compiling("wcsph", settings.progress) as compiled:
+        E = sph.evaluate(P.x, P.v, P.rho, P.m)  # compiles (or loads) the kernels, as do the sums below
+        h_gauges, _ = sph.columns(P, gauges)
+        sph.columns(P)
+    compile_seconds = compiled.seconds
     sph.counters = 0.0, 0, 0.0, 0
     run = _Run(scene, sph, record, compile_seconds, History(h_gauges + slice_.bed, 2))
     run.energies.append((0.0, sph.energy(P)))
