@@ -252,15 +252,15 @@ def blast_array(shape="circle", arrangement="inline", rows=3, layers=3, column_p
     for k, rod in enumerate(rods):
         if any(shape_queries.overlaps(rod, other) for other in rods[k + 1:]):
             raise InputError(f"column_pitch = {column_pitch:g} m is too small for {shape} rods of size "
-                                    f"{size:g} m ({arrangement}): neighbouring columns overlap.")
+                             f"{size:g} m ({arrangement}): neighbouring columns overlap.")
     upstream = min(rod.bounds()[0] for rod in rods)
     if upstream <= 0.35 * length:
         raise InputError(f"the array starts at x = {upstream:.4g} m, upstream of the probe u at "
-                                f"{0.35 * length:g} m: use fewer layers, a smaller column_pitch or trap_gap, or a "
-                                "smaller standoff.")
+                         f"{0.35 * length:g} m: use fewer layers, a smaller column_pitch or trap_gap, or a "
+                         "smaller standoff.")
     if standoff <= 0.15 * length:
         raise InputError(f"standoff = {standoff:g} m puts the array over the probe d at {0.85 * length:g} m: "
-                                f"use standoff > {0.15 * length:g} m.")
+                         f"use standoff > {0.15 * length:g} m.")
     computed = ROW_PITCH if one_period else width
     return _blast_channel(
         "blast_array", dict(shape=shape, arrangement=arrangement, rows=rows, layers=layers,

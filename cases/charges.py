@@ -203,7 +203,7 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     L = EXTENT * scale
     if start == "remap" and not t_end > T_REMAP * scale:
         raise InputError(f"t_end must be later than {T_REMAP * scale:g} s, when a surface burst of W = {W:g} kg "
-                                f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
+                         f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((0.0, L), (0.0, L))
     probes, times, dt_probe = _gauges(W, t_end)

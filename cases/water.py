@@ -24,7 +24,7 @@ def dam_break(h_left=1.0, h_right=0.1, length=10.0, x0=5.0, t_end=0.6, nx_out=80
     state = exact.dam_break_state(h_left, h_right, g)
     if x0 + state.front_speed * t_end >= length or x0 + state.head_speed * t_end <= 0.0:
         raise InputError(f"t_end = {t_end:g} s lets the waves of the dam break leave [0, {length:g}] m: "
-                                f"use t_end <= {min((length - x0) / state.front_speed, -x0 / state.head_speed):.4g} s.")
+                         f"use t_end <= {min((length - x0) / state.front_speed, -x0 / state.head_speed):.4g} s.")
     domain = ((0.0, length),) * dim
     output = OutputGrid(domain=domain, shape=(nx_out,) * dim, times=(0.5 * t_end, t_end), dt_probe=t_end / 400)
 
@@ -86,7 +86,7 @@ def standing_wave(amplitude=0.005, depth=0.5, length=1.0, mode=1, t_end=3.0, nx_
     mode, nx_out = checks.integer("mode", mode, 1), checks.integer("nx_out", nx_out, 10)
     if not amplitude <= 0.1 * depth:
         raise InputError(f"amplitude must be at most a tenth of the depth ({0.1 * depth:g} m) for linear "
-                                f"theory to hold, got {amplitude:g} m.")
+                         f"theory to hold, got {amplitude:g} m.")
     k = mode * np.pi / length
     domain = ((0.0, length),)
     output = OutputGrid(domain=domain, shape=(nx_out,), times=tuple(np.linspace(0.0, t_end, 7)[1:]),
@@ -180,7 +180,7 @@ def _checked_wave_scene(depth, length, t_end, nx_out, g, gauges):
     horizon = max(gauges) + np.sqrt(g * depth) * t_end
     if horizon > 2 * length - max(gauges):
         raise InputError(f"length = {length:g} m lets a wave reflected at the far end reach the gauges before "
-                                f"t_end = {t_end:g} s: use length >= {0.5 * (horizon + max(gauges)):.4g} m.")
+                         f"t_end = {t_end:g} s: use length >= {0.5 * (horizon + max(gauges)):.4g} m.")
     return depth, length, t_end, nx_out, g
 
 
