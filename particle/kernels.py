@@ -95,6 +95,7 @@ __all__ = [
     "kernel_eval",
     "kernel_id",
     "kernel_w",
+    "least_eta",
     "sigma",
     "skewed_grad",
     "skewed_w",
@@ -468,3 +469,17 @@ def sigma(name, dim) -> float:
     """Normalisation ``σ_d`` of kernel ``name`` in ``dim`` dimensions, support
     convention: ``W = σ_d / H^d · f(r/H)``."""
     return float(SIGMA[kernel_id(name), _check_dim(dim)])
+
+
+def least_eta(name, dim) -> float:
+    r"""The support radius in local spacings, ``η = H (ρ/m)^(1/d)``, at and
+    below which the summation density has no solution with kernel ``name``
+    in ``dim`` dimensions: ``η_min = (σ_d f(0))^(1/d)``.
+
+    A particle's own term alone gives ``Σ_j m_j W(r_ij, H) ≥ m_i σ_d f(0)/H^d``
+    (every ``W ≥ 0``), while ``H = η (m_i/ρ_i)^(1/d)`` asks for
+    ``ρ_i = m_i η^d/H^d``: for ``η^d ≤ σ_d f(0)`` the sum exceeds it at
+    every ``H`` and the support shrinks without end (Price 2012, J. Comput.
+    Phys. 231, 759, §2.3, on the joint solve)."""
+    kind, d = kernel_id(name), _check_dim(dim)
+    return float((SIGMA[kind, d] * shape(kind, 0.0)) ** (1.0 / d))

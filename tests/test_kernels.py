@@ -203,6 +203,22 @@ def test_bad_input_is_refused():
         K.w("gaussian", [0.1, 0.2], [1.0, 1.0, 1.0], 1)
 
 
+@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("dim", [1, 2])
+def test_least_eta_is_where_the_density_solve_gains_a_solution(name, dim):
+    """On the unit square lattice (unit masses, ρ = 1) the joint solve
+    Σ_j W(r_ij, H) = (η/H)^d has no root H for η at least_eta and a root
+    just above it: a brute-force scan of H over the lattice's own sums."""
+    least = K.least_eta(name, dim)
+    offsets = np.arange(-12, 13)
+    r = (np.abs(offsets) if dim == 1 else
+         np.hypot(*np.meshgrid(offsets, offsets)).ravel())
+    H = np.geomspace(0.05, 10.0, 4000)
+    sums = np.array([K.w(name, r, h, dim).sum() for h in H])
+    assert np.all(sums - (least / H) ** dim > -1e-12 * sums)
+    assert np.any(sums - (1.02 * least / H) ** dim < 0.0)
+
+
 # ---------------------------------------------------------------------------
 # skewed kernel (SPEC §3.1)
 # ---------------------------------------------------------------------------

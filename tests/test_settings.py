@@ -118,6 +118,19 @@ def test_the_grid_kernels_offer_the_choices_the_settings_name():
                                                                        set(PRECISION_NAMES))
 
 
+@pytest.mark.parametrize("method", ["sph", "hybrid"])
+def test_a_support_too_small_for_the_density_solve_is_refused(method):
+    """With η at or below the kernel's least_eta the summation density has no
+    solution and the supports would collapse to NaN inside the neighbour
+    search: the settings refuse it in one sentence; just above it, sph runs."""
+    with pytest.raises(InputError, match=r"^eta must exceed 1\.875 with the wendland_c6 kernel in 1D") as error:
+        registered(method).checked(partmesh.scene("sod"), {"eta": "1.5"})
+    assert _one_sentence(error.value)
+    if method == "sph":
+        ds = partmesh.run("sod", "sph", eta=1.9, dx=1 / 40, t_end=0.01, progress=False)
+        assert ds.attrs["status"] == "ok" and ds.attrs["n_steps"] >= 1
+
+
 def test_text_settings_become_numbers_once():
     """``--option eta=4`` on hybrid (text) gives the number the SPH scheme
     needs; ``eta=abc`` one sentence."""

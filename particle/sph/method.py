@@ -11,7 +11,7 @@ from partmesh.cases.memory import elements_in, particle_bytes
 from partmesh.cases.method import Memory, Method
 from partmesh.cases.scene import Inflow
 from partmesh.cases.settings import Settings, one_of, optional_path, setting, within
-from partmesh.particle.kernels import KERNELS
+from partmesh.particle.kernels import KERNELS, least_eta
 
 #: how the initial particles are laid out: equal masses (spacing dx in the densest gas), or the
 #: lattice of spacing dx with masses ρ dx^d (for density contrasts equal masses cannot take, and the
@@ -33,10 +33,19 @@ class SPHScheme(Settings):
     conduction coefficient's switch."""
 
     kernel: str = setting("wendland_c6", one_of(KERNELS), "SPH kernel")
-    eta: float = setting(4.0, within(1.0, 8.0), "support radius in local spacings, in [1, 8]")
+    eta: float = setting(4.0, within(1.0, 8.0),
+                         "support radius in local spacings, in [1, 8] and above the kernel's least_eta")
     alpha_max: float = setting(2.5, within(0.0, 10.0), "ceiling of the viscosity switch, in [0, 10]")
     alpha_min: float = setting(0.0, within(0.0, 10.0), "floor of the viscosity switch, in [0, 10]")
     alpha_u: float = setting(1.0, within(0.0, 10.0), "ceiling of the conduction switch, in [0, 10]")
+
+    def check_together(self, scene) -> None:
+        super().check_together(scene)
+        least = least_eta(self.kernel, scene.dim)
+        if not self.eta > least:
+            raise InputError(f"eta must exceed {least:.4g} with the {self.kernel} kernel in {scene.dim}D, where a "
+                             f"particle's own weight outgrows the density its support asks for and the density has "
+                             f"no solution; got {self.eta:g}.")
 
 
 @dataclass(frozen=True)
