@@ -24,9 +24,13 @@ __all__ = ["GAS_GEOMETRIES", "check_geometry", "check_scene", "choice", "flag", 
 
 def check_scene(scene) -> None:
     """Consistency of a whole scene: domain, boundaries, output times, probes."""
-    if scene.dim not in (1, 2) or len(scene.domain) != scene.dim:
-        raise InputError(f"scene {scene.name}: dim must be 1 or 2 with one (lo, hi) pair per axis.")
-    for axis, (lo, hi) in zip("xy", scene.domain):
+    if scene.dim not in (1, 2, 3) or len(scene.domain) != scene.dim:
+        raise InputError(f"scene {scene.name}: dim must be 1, 2 or 3 with one (lo, hi) pair per axis.")
+    if scene.dim == 3 and (scene.obstacles or scene.wall is not None or scene.medium != "gas"
+                           or any(isinstance(kind, Inflow) for kind in scene.boundaries.values())):
+        raise InputError(f"scene {scene.name}: a 3D scene is a gas in a box for now, without obstacles, a "
+                         "target wall or an inflow side.")
+    for axis, (lo, hi) in zip("xyz", scene.domain):
         if not hi > lo:
             raise InputError(f"scene {scene.name}: domain along {axis} must have hi > lo, got [{lo:g}, {hi:g}].")
     positive("t_end", scene.t_end)
@@ -51,9 +55,10 @@ def check_scene(scene) -> None:
         if scene.geometry != "planar" and probe.x < 0.0:
             raise InputError(f"probe {probe.name!r} of scene {scene.name} lies at r = {probe.x:g} m; in an "
                              f"{scene.geometry} scene the radius r (x) must be >= 0.")
-        inside = all(lo <= c <= hi for c, (lo, hi) in zip((probe.x, probe.y), scene.domain))
+        inside = all(lo <= c <= hi for c, (lo, hi) in zip((probe.x, probe.y, probe.z), scene.domain))
         if not inside:
-            where = f"({probe.x:g}, {probe.y:g})" if scene.dim == 2 else f"x = {probe.x:g}"
+            where = (f"x = {probe.x:g}" if scene.dim == 1 else
+                     "(" + ", ".join(f"{c:g}" for c in (probe.x, probe.y, probe.z)[: scene.dim]) + ")")
             box = " x ".join(f"[{lo:g}, {hi:g}]" for lo, hi in scene.domain)
             raise InputError(f"probe {probe.name!r} at {where} lies outside the domain {box}.")
         for shape in scene.obstacles:
@@ -78,6 +83,8 @@ def check_geometry(scene) -> None:
     choice("geometry", scene.geometry, GAS_GEOMETRIES)
     if scene.geometry == "planar":
         return
+    if scene.dim == 3:
+        raise InputError(f"scene {scene.name}: a 3D scene is planar (x, y, z), got geometry {scene.geometry!r}.")
     if scene.geometry == "spherical" and scene.dim != 1:
         raise InputError(f"scene {scene.name}: a spherical scene is 1D (x the distance from the centre); "
                          "in 2D a sphere is an axisymmetric scene.")
@@ -143,7 +150,7 @@ def check_obstacles(scene, dx: float) -> None:
                                  f"by {period:g} m, is not an obstacle of the scene; list both parts.")
 
 
-def check_initial_state(scene, rho, p, x, y=None, fluid=None) -> None:
+def check_initial_state(scene, rho, p, x, y=None, z=None, fluid=None) -> None:
     """Refuse an initial state with non-positive (or non-finite) density or
     pressure in the fluid, naming the first offending point."""
     for name, values in (("density", rho), ("pressure", p)):
@@ -152,6 +159,6 @@ def check_initial_state(scene, rho, p, x, y=None, fluid=None) -> None:
             bad &= fluid
         if np.any(bad):
             k = np.flatnonzero(bad)[0]
-            at = f"x = {np.ravel(x)[k]:.6g} m" + ("" if y is None else f", y = {np.ravel(y)[k]:.6g} m")
+            at = ", ".join(f"{a} = {np.ravel(c)[k]:.6g} m" for a, c in zip("xyz", (x, y, z)) if c is not None)
             raise InputError(f"scene {scene.name}: initial {name} must be positive and finite, "
                              f"got {np.ravel(values)[k]:g} at {at}.")

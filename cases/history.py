@@ -206,8 +206,8 @@ class RunRecord(ABC):
             attrs["failure"] = failure
         ds = result(
             case=scene.name, method=self.method, scheme=output.scheme,
-            x=out.x, y=out.y, times=np.asarray(self.frame_times), fields=output.fields, solid=output.solid,
-            probes={pr.name: (pr.x, pr.y) for pr in scene.probes} or None,
+            x=out.x, y=out.y, z=out.z, times=np.asarray(self.frame_times), fields=output.fields, solid=output.solid,
+            probes={pr.name: pr.at(max(2, scene.dim)) for pr in scene.probes} or None,
             t_probe=t_probe if series else None, series=series,
             parameters={"scene": scene.to_dict(), "solver": self.settings},
             dx=self.settings["dx"], n_elements=output.n_elements, n_steps=self.n_steps, wall_seconds=wall,

@@ -62,6 +62,7 @@ class Method:
     solver: str
     takes_seed: bool = False
     geometries: tuple[str, ...] = ("planar",)
+    dims: tuple[int, ...] = (1, 2)
 
     def refusal(self, scene) -> str | None:
         """Why this method cannot run ``scene`` (one sentence), or None."""
@@ -70,6 +71,9 @@ class Method:
         if scene.medium == "gas" and scene.geometry not in self.geometries:
             return (f"method {self.name} runs {' and '.join(self.geometries)} scenes, and {scene.name} is "
                     f"{scene.geometry}.")
+        if scene.dim not in self.dims:
+            return (f"method {self.name} runs {' and '.join(f'{d}D' for d in self.dims)} scenes, and {scene.name} "
+                    f"is {scene.dim}D.")
         return None
 
     def checked(self, scene, given: dict) -> Settings:

@@ -40,6 +40,11 @@ class Probe:
     x: float
     y: float = 0.0
     shell: bool = False
+    z: float = 0.0
+
+    def at(self, dim: int) -> tuple[float, ...]:
+        """The probe's position in ``dim`` dimensions: ``(x,)``, ``(x, y)`` or ``(x, y, z)``."""
+        return (self.x, self.y, self.z)[:dim]
 
 
 @dataclass(frozen=True)
@@ -62,7 +67,7 @@ class OutputGrid:
     times, and the probe sampling interval."""
 
     domain: tuple[tuple[float, float], ...]
-    shape: tuple[int, ...]  # (nx,) or (nx, ny)
+    shape: tuple[int, ...]  # (nx,), (nx, ny) or (nx, ny, nz)
     times: tuple[float, ...]
     dt_probe: float
 
@@ -71,7 +76,7 @@ class OutputGrid:
         return tuple((hi - lo) / n for (lo, hi), n in zip(self.domain, self.shape))
 
     def centres(self, axis: int) -> np.ndarray:
-        """Cell-centre coordinates along ``axis`` (0: x, 1: y)."""
+        """Cell-centre coordinates along ``axis`` (0: x, 1: y, 2: z)."""
         (lo, hi), n = self.domain[axis], self.shape[axis]
         return lo + (np.arange(n) + 0.5) * (hi - lo) / n
 
@@ -81,7 +86,11 @@ class OutputGrid:
 
     @property
     def y(self) -> np.ndarray | None:
-        return self.centres(1) if len(self.shape) == 2 else None
+        return self.centres(1) if len(self.shape) >= 2 else None
+
+    @property
+    def z(self) -> np.ndarray | None:
+        return self.centres(2) if len(self.shape) == 3 else None
 
     def probe_times(self, t_end: float, t_start: float = 0.0) -> np.ndarray:
         """Sampling times t_start, t_start + dt_probe, ... up to and including ``t_end``."""

@@ -17,7 +17,7 @@ from partmesh.cases.checks import check_geometry, check_scene, choice, in_range,
 from partmesh.cases.errors import InputError
 from partmesh.cases.parts import Inflow, OutputGrid, Probe, Wall
 
-SIDES = ("x_lo", "x_hi", "y_lo", "y_hi")
+SIDES = ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")
 BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
 
 __all__ = ["BOUNDARY_KINDS", "Inflow", "OutputGrid", "Precursor", "Probe", "SIDES", "Scene", "Wall", "WaterScene"]
@@ -36,7 +36,7 @@ class _Scenes:
 
     @property
     def periodic(self) -> tuple[bool, ...]:
-        """Whether the domain wraps around along x (and y)."""
+        """Whether the domain wraps around along x (and y, z)."""
         return tuple(self.boundaries[side] == "periodic" for side in self.sides[::2])
 
     def exact(self, times=None):
@@ -47,10 +47,13 @@ class _Scenes:
         return self.exact_solution(np.asarray(self.output.times if times is None else times, float))
 
     def side_area(self, side: str) -> float:
-        """The area of ``side`` (one of :attr:`sides`) of a 2D domain [m²]:
-        planar, per metre depth (its length); axisymmetric, the whole
+        """The area of ``side`` (one of :attr:`sides`) of a 2D or 3D domain [m²]:
+        planar 2D, per metre depth (its length); 3D, the face's; axisymmetric, the whole
         revolved side (a disc or annulus across the axis, a cylinder along it)."""
         i = self.sides.index(side)
+        if self.dim == 3:
+            (a_lo, a_hi), (b_lo, b_hi) = (extent for k, extent in enumerate(self.domain) if k != i // 2)
+            return (a_hi - a_lo) * (b_hi - b_lo)
         if self.geometry != "axisymmetric":
             lo, hi = self.domain[1 - i // 2]
             return hi - lo
@@ -81,7 +84,8 @@ class Scene(_Scenes):
 
     ``initial(x, y, dx)`` returns primitive ``(rho, u, v, p)`` arrays at the
     points ``(x, y)`` (``y`` is ``None`` in 1D); ``dx`` is the spacing of the
-    points, for scenes that deposit a quantity over a few cells (Sedov).
+    points, for scenes that deposit a quantity over a few cells (Sedov). In
+    3D it is ``initial(x, y, dx, z)`` and returns ``(rho, u, v, w, p)``.
     ``boundaries`` maps each side of the domain to ``"reflect"``,
     ``"outflow"``, ``"periodic"`` or an :class:`Inflow`.
     ``exact_solution(times)``, where the scene has one, returns a schema

@@ -21,6 +21,8 @@ do not poison their fluid neighbours; see :func:`to_output_grid`.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 __all__ = ["to_output_grid", "HOW"]
@@ -116,46 +118,45 @@ def linear_weights(src: np.ndarray, hs: float, dst: np.ndarray, periodic: bool =
 
 
 def _interp(v: np.ndarray, axes: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
-    """NaN-aware (bi)linear interpolation on the trailing axes."""
-    if len(axes) == 1:
-        (i0, i1, w), = axes
-        corners = [(v[..., i0], 1.0 - w), (v[..., i1], w)]
-    else:
-        (j0, j1, wy), (i0, i1, wx) = axes
-        wy = wy[:, None]
-        wx = wx[None, :]
-        corners = [
-            (v[..., j0[:, None], i0[None, :]], (1.0 - wy) * (1.0 - wx)),
-            (v[..., j0[:, None], i1[None, :]], (1.0 - wy) * wx),
-            (v[..., j1[:, None], i0[None, :]], wy * (1.0 - wx)),
-            (v[..., j1[:, None], i1[None, :]], wy * wx),
-        ]
+    """NaN-aware (bi-, tri-)linear interpolation on the trailing axes: the
+    tensor product of the axes' weights over the 2^d corners."""
+    d = len(axes)
     num = 0.0
     den = 0.0
-    for val, wt in corners:  # 2 or 4 corner terms, not a loop over cells
-        ok = np.isfinite(val) & (wt > 0)
-        num = num + np.where(ok, val * wt, 0.0)
-        den = den + np.where(ok, wt, 0.0)
+    for corner in itertools.product((0, 1), repeat=d):  # 2^d corner terms, not a loop over cells
+        index, weight = [], 1.0
+        for a, (bit, (i0, i1, w)) in enumerate(zip(corner, axes)):
+            shape = [1] * d
+            shape[a] = -1
+            index.append((i1 if bit else i0).reshape(shape))
+            weight = weight * (w if bit else 1.0 - w).reshape(shape)
+        val = v[(Ellipsis, *index)]
+        ok = np.isfinite(val) & (weight > 0)
+        num = num + np.where(ok, val * weight, 0.0)
+        den = den + np.where(ok, weight, 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)
 
 
-def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, periodic=(False, False)) -> tuple[np.ndarray, str]:
+def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, src_z=None, dst_z=None,
+                   periodic=(False, False, False)) -> tuple[np.ndarray, str]:
     """Move a cell-centred field from a uniform source grid onto a uniform output grid.
 
     Parameters
     ----------
-    values : array of shape ``([n,] [ny,] nx)``
+    values : array of shape ``([n,] [[nz,] ny,] nx)``
         The field on the source grid: ``(nx,)`` or ``(n, nx)`` in 1D,
-        ``(ny, nx)`` or ``(n, ny, nx)`` in 2D; a leading axis (e.g. time) is
+        ``(ny, nx)`` or ``(n, ny, nx)`` in 2D, ``(nz, ny, nx)`` or
+        ``(n, nz, ny, nx)`` in 3D; a leading axis (e.g. time) is
         carried through unchanged. NaN marks cells without a value (solids).
     src_x, dst_x : 1D arrays
         Cell centres of the source and output grids along x, strictly
         increasing and uniformly spaced.
-    src_y, dst_y : 1D arrays, optional
-        The same along y for 2D fields (give both or neither).
-    periodic : (bool, bool)
-        Whether the domain wraps around along x and y: linear interpolation
+    src_y, dst_y, src_z, dst_z : 1D arrays, optional
+        The same along y for 2D and 3D fields and along z for 3D fields
+        (give both of a pair or neither; z only with y).
+    periodic : bools, one per axis (x, y, z; missing ones False)
+        Whether the domain wraps around along each axis: linear interpolation
         then takes the neighbours across the periodic side instead of
         clamping.
 
@@ -188,26 +189,22 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, periodic=(False
     ValueError
         With one sentence naming the offending parameter: non-uniform or
         non-increasing coordinates, a coordinate whose length differs from
-        the matching axis of ``values``, or ``src_y``/``dst_y`` given alone.
+        the matching axis of ``values``, or one of a pair given alone.
     """
     v = np.asarray(values, dtype=float)
-    if (src_y is None) != (dst_y is None):
-        raise ValueError("src_y and dst_y must be given together (2D) or both left out (1D).")
-    two_d = src_y is not None
-    need = 2 if two_d else 1
+    for axis, src, dst in (("y", src_y, dst_y), ("z", src_z, dst_z)):
+        if (src is None) != (dst is None):
+            raise ValueError(f"src_{axis} and dst_{axis} must be given together or both left out.")
+    if src_z is not None and src_y is None:
+        raise ValueError("src_z and dst_z need src_y and dst_y (a 3D field).")
+    given = [(n, s, d) for n, s, d in (("x", src_x, dst_x), ("y", src_y, dst_y), ("z", src_z, dst_z)) if s is not None]
+    need = len(given)
     if v.ndim not in (need, need + 1):
-        raise ValueError(
-            f"values must have shape {'([n,] ny, nx)' if two_d else '([n,] nx)'} "
-            f"({need} or {need + 1} dimensions), got {v.ndim} dimensions."
-        )
-    sx, hsx = _axis("src_x", src_x, v.shape[-1])
-    dx_, hdx = _axis("dst_x", dst_x)
-    if two_d:
-        sy, hsy = _axis("src_y", src_y, v.shape[-2])
-        dy_, hdy = _axis("dst_y", dst_y)
-        pairs = [(sy, hsy, dy_, hdy), (sx, hsx, dx_, hdx)]
-    else:
-        pairs = [(sx, hsx, dx_, hdx)]
+        layout = ("nx", "ny, nx", "nz, ny, nx")[need - 1]
+        raise ValueError(f"values must have shape ([n,] {layout}) ({need} or {need + 1} dimensions), "
+                         f"got {v.ndim} dimensions.")
+    # (the array's axes run z, y, x: the last axis is x)
+    pairs = [(*_axis(f"src_{n}", s, v.shape[-1 - a]), *_axis(f"dst_{n}", d)) for a, (n, s, d) in enumerate(given)][::-1]
 
     if all(_same(s, d, hs) for s, hs, d, _ in pairs):
         return v.copy(), "identity"
@@ -217,6 +214,6 @@ def to_output_grid(values, src_x, dst_x, src_y=None, dst_y=None, periodic=(False
         spec = [(m, k, d.size) for (m, k), (_, _, d, _) in zip(blocks, pairs)]
         return _block_mean(v, spec), "conservative average"
 
-    wraps = [periodic[1], periodic[0]] if two_d else [periodic[0]]
+    wraps = [bool(periodic[a]) if a < len(periodic) else False for a in range(need)][::-1]
     axes = [linear_weights(s, hs, d, wrap) for (s, hs, d, _), wrap in zip(pairs, wraps)]
     return _interp(v, axes), "linear interpolation"

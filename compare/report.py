@@ -203,11 +203,40 @@ def write_table(df: pd.DataFrame, folder: str | Path, stem: str = "summary") -> 
     return folder
 
 
+def _views(runs, reference) -> dict[str, tuple[list[xr.Dataset], xr.Dataset | None]]:
+    """What the figures show of ``runs`` and ``reference``, by the suffix of
+    their files: the results themselves in 1D and 2D; of 3D results, the
+    planes of cells nearest the middle of the box, X–Y (``_xy``) and X–Z
+    (``_xz``, z drawn as y), or, where the output grid is one cell across
+    two axes (a tube), the line along the third (drawn as x)."""
+    first = runs[0]
+    if "z" not in first.dims:
+        return {"": (runs, reference)}
+    long = [d for d in ("x", "y", "z") if first.sizes[d] > 1]
+    if len(long) == 1:
+        def cut(ds):
+            line = ds.isel({d: 0 for d in ("x", "y", "z") if d != long[0]}, drop=True)
+            return line.rename({long[0]: "x"}) if long[0] != "x" else line
+        return {"": ([cut(ds) for ds in runs], None if reference is None else cut(reference))}
+
+    def plane(ds, across, name):
+        mid = float(first[across][first.sizes[across] // 2])
+        cut = ds.sel({across: mid}, method="nearest", drop=True)
+        cut.attrs = {**ds.attrs, "case": f"{ds.attrs['case']}, mid-plane {name} ({across} = {mid:.4g} m"
+                                         f"{'; z drawn as y' if across == 'y' else ''})"}
+        return cut.rename({"z": "y"}) if across == "y" else cut
+
+    return {f"_{name.lower().replace('–', '')}": ([plane(ds, across, name) for ds in runs],
+                                                  None if reference is None else plane(reference, across, name))
+            for name, across in (("X–Y", "z"), ("X–Z", "y"))}
+
+
 def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str], folder: str | Path,
            versus: str = "the reference", timing: str | None = None) -> pd.DataFrame:
     """The table of :func:`table` (written by :func:`write_table`) and the
     figures of the runs into ``folder``: profiles (1D) or field maps with
-    difference maps and numerical schlieren (2D), probe histories, wall
+    difference maps and numerical schlieren (2D; in 3D of the mid-planes,
+    :func:`_views`), probe histories, wall
     force and impulse where the scene has them, and, against a reference,
     speed versus error and convergence of the L1 density error (``versus``
     names the reference in their titles). Where a method ran at three or
@@ -220,14 +249,16 @@ def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str
     write_table(df, folder)
     first = runs[0]
     water = "eta" in first
-    if "y" in first.dims:
-        for field in (f for f in ("rho", "p", "eta") if f in first):
-            plots.field_maps(runs, field, folder / f"{field}_maps.png", reference=reference, names=names)
-        if not water:
-            plots.schlieren_maps(runs, folder / "schlieren.png", names=names)
-    else:
-        for field in (f for f in ("rho", "u", "p", "eta") if f in first):
-            plots.profiles(runs, field, folder / f"{field}.png", reference=reference, names=names)
+    for view, (shown, ref) in _views(runs, reference).items():
+        first_shown = shown[0]
+        if "y" in first_shown.dims:
+            for field in (f for f in ("rho", "p", "eta") if f in first_shown):
+                plots.field_maps(shown, field, folder / f"{field}_maps{view}.png", reference=ref, names=names)
+            if not water:
+                plots.schlieren_maps(shown, folder / f"schlieren{view}.png", names=names)
+        else:
+            for field in (f for f in ("rho", "u", "v", "w", "p", "eta") if f in first_shown):
+                plots.profiles(shown, field, folder / f"{field}{view}.png", reference=ref, names=names)
     for series in (s for s in ("p_probe", "eta_probe") if s in first):
         for probe in first.probe.values:
             # gauge records in seconds, blast probes in milliseconds

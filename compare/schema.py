@@ -52,13 +52,16 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "time": ("s", "output time"),
     "x": ("m", "cell-centre x of the output grid"),
     "y": ("m", "cell-centre y of the output grid"),
+    "z": ("m", "cell-centre z of the output grid"),
     "t_probe": ("s", "probe sampling time"),
     "probe": ("1", "probe name"),
     "probe_x": ("m", "probe x position"),
     "probe_y": ("m", "probe y position"),
+    "probe_z": ("m", "probe z position"),
     "rho": ("kg m-3", "density"),
     "u": ("m s-1", "x velocity"),
     "v": ("m s-1", "y velocity"),
+    "w": ("m s-1", "z velocity"),
     "p": ("Pa", "pressure"),
     "e": ("J kg-1", "specific internal energy"),
     "eta": ("m", "free-surface elevation above still water"),
@@ -70,7 +73,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "wall_impulse": ("N s m-1", "wall impulse per metre depth, time integral of wall_force"),
 }
 
-FIELDS = ("rho", "u", "v", "p", "e", "eta", "h")
+FIELDS = ("rho", "u", "v", "w", "p", "e", "eta", "h")
 SERIES_BY_PROBE = ("p_probe", "eta_probe")
 SERIES = ("wall_force", "wall_impulse")
 
@@ -119,7 +122,8 @@ def source_revision() -> str | None:
 
 
 def _spatial_dims(ndim: int) -> tuple[str, ...]:
-    return ("y", "x") if ndim == 2 else ("x",)
+    """The field layout's spatial dimensions, x last: ``(x,)``, ``(y, x)``, ``(z, y, x)``."""
+    return ("z", "y", "x")[3 - ndim:]
 
 
 def result(
@@ -131,6 +135,7 @@ def result(
     times: np.ndarray,
     fields: dict[str, np.ndarray],
     y: np.ndarray | None = None,
+    z: np.ndarray | None = None,
     solid: np.ndarray | None = None,
     probes: dict[str, tuple[float, float]] | None = None,
     t_probe: np.ndarray | None = None,
@@ -146,17 +151,20 @@ def result(
 ) -> xr.Dataset:
     """Assemble a schema Dataset from plain arrays.
 
-    ``fields`` maps field names to arrays of shape ``(time, [y,] x)``;
+    ``fields`` maps field names to arrays of shape ``(time, [[z,] y,] x)``
+    (``z`` only with ``y``); probes are ``(x, y)`` or, in 3D, ``(x, y, z)``;
     ``series`` maps ``p_probe``/``eta_probe`` to ``(t_probe, probe)`` arrays
     and ``wall_force``/``wall_impulse`` to ``(t_probe,)`` arrays.
     ``long_names`` overrides the default long name of a variable (e.g. to say
     which velocity ``u`` is in a water result). Extra keyword arguments
     become attributes.
     """
-    dims = _spatial_dims(1 if y is None else 2)
-    coords: dict = {"time": ("time", np.asarray(times, float)), "x": ("x", np.asarray(x, float))}
-    if y is not None:
-        coords["y"] = ("y", np.asarray(y, float))
+    if z is not None and y is None:
+        raise SchemaError("a result with a z coordinate needs a y coordinate too.")
+    axes = {name: c for name, c in (("x", x), ("y", y), ("z", z)) if c is not None}
+    dims = _spatial_dims(len(axes))
+    coords: dict = {"time": ("time", np.asarray(times, float))}
+    coords.update({name: (name, np.asarray(c, float)) for name, c in axes.items()})
     data_vars: dict = {name: (("time",) + dims, np.asarray(a, float)) for name, a in fields.items()}
     if solid is not None:
         data_vars["solid"] = (dims, np.asarray(solid, np.int8))
@@ -165,6 +173,8 @@ def result(
         coords["probe"] = ("probe", np.array(names, dtype=object))
         coords["probe_x"] = ("probe", np.array([probes[n][0] for n in names], float))
         coords["probe_y"] = ("probe", np.array([probes[n][1] for n in names], float))
+        if z is not None:
+            coords["probe_z"] = ("probe", np.array([probes[n][2] for n in names], float))
     if t_probe is not None:
         coords["t_probe"] = ("t_probe", np.asarray(t_probe, float))
     for name, a in (series or {}).items():
@@ -208,7 +218,9 @@ def validate(ds: xr.Dataset) -> xr.Dataset:
             raise SchemaError(f"result has no '{coord}' coordinate.")
     if np.any(np.diff(ds["time"].values) <= 0):
         raise SchemaError("coordinate 'time' must be strictly increasing.")
-    dims = _spatial_dims(2 if "y" in ds.coords else 1)
+    if "z" in ds.coords and "y" not in ds.coords:
+        raise SchemaError("result has a 'z' coordinate but no 'y' coordinate.")
+    dims = _spatial_dims(1 + ("y" in ds.coords) + ("z" in ds.coords))
     for name, var in ds.variables.items():
         if name not in VARIABLES:
             raise SchemaError(f"variable {name!r} is not part of the partmesh schema.")

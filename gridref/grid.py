@@ -3,6 +3,8 @@ scene at a requested cell size."""
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from jax_cfd.base import grids
 
@@ -14,7 +16,7 @@ def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Gri
     """A uniform cell-centred grid over ``domain`` with square cells of size
     ``dx``; each extent must hold a whole number of cells (to 1e-6)."""
     shape = []
-    for axis, (lo, hi) in zip("xy", domain):
+    for axis, (lo, hi) in zip("xyz", domain):
         n = (hi - lo) / dx
         if abs(n - round(n)) > 1e-6 * n or round(n) < 1:
             raise InputError(
@@ -38,30 +40,30 @@ def cell_centres(grid: grids.Grid) -> list[np.ndarray]:
     return [np.asarray(a) for a in grid.axes()]
 
 
-def mesh(grid: grids.Grid) -> tuple[np.ndarray, np.ndarray | None]:
-    """Cell-centre coordinate arrays in the field layout ``([y,] x)``:
-    ``(X, Y)`` in 2D, ``(x, None)`` in 1D."""
+def mesh(grid: grids.Grid) -> tuple[np.ndarray | None, ...]:
+    """Cell-centre coordinate arrays in the field layout ``([[z,] y,] x)``:
+    ``(x, None)`` in 1D, ``(X, Y)`` in 2D, ``(X, Y, Z)`` in 3D."""
     axes = cell_centres(grid)
     if len(axes) == 1:
         return axes[0], None
-    Y, X = np.meshgrid(axes[1], axes[0], indexing="ij")
-    return X, Y
+    return tuple(np.meshgrid(*axes[::-1], indexing="ij")[::-1])
 
 
-def bilinear_stencil(grid: grids.Grid, points: np.ndarray, periodic=(False, False)) -> tuple[np.ndarray, np.ndarray]:
-    """Flat indices ``(n, 2**dim)`` into the field layout ``([y,] x)`` and the
-    (bi)linear interpolation weights of the cell centres around each of the
-    ``points`` ``(n, dim)``; along a ``periodic`` axis (x, y) the stencil
+def bilinear_stencil(grid: grids.Grid, points: np.ndarray,
+                     periodic=(False, False, False)) -> tuple[np.ndarray, np.ndarray]:
+    """Flat indices ``(n, 2**dim)`` into the field layout ``([[z,] y,] x)`` and the
+    (bi-, tri-)linear interpolation weights of the cell centres around each of the
+    ``points`` ``(n, dim)``; along a ``periodic`` axis (x, y, z) the stencil
     wraps around, elsewhere points beyond the outermost centres take the
-    edge value (clamped)."""
+    edge value (clamped). The corners run with x fastest."""
     points = np.atleast_2d(np.asarray(points, float))
     axes = cell_centres(grid)
-    lower, upper, frac = zip(*(linear_weights(c, h, points[:, d], periodic[d])
-                               for d, (c, h) in enumerate(zip(axes, grid.step))))
-    if len(axes) == 1:
-        return np.stack([lower[0], upper[0]], axis=1), np.stack([1 - frac[0], frac[0]], axis=1)
-    nx = grid.shape[0]
-    (i, j), (i1, j1), (fx, fy) = lower, upper, frac
-    idx = np.stack([j * nx + i, j * nx + i1, j1 * nx + i, j1 * nx + i1], axis=1)
-    w = np.stack([(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy], axis=1)
-    return idx, w
+    per_axis = [linear_weights(c, h, points[:, d], bool(periodic[d]) if d < len(periodic) else False)
+                for d, (c, h) in enumerate(zip(axes, grid.step))]
+    strides = np.cumprod([1, *grid.shape[:-1]])
+    index, weight = [], []
+    for corner in itertools.product((0, 1), repeat=len(axes)):  # z (if any) slowest, x fastest
+        bits = corner[::-1]  # (x, y, z)
+        index.append(sum(s * (hi if b else lo) for s, b, (lo, hi, _) in zip(strides, bits, per_axis)))
+        weight.append(np.prod([f if b else 1 - f for b, (_, _, f) in zip(bits, per_axis)], axis=0))
+    return np.stack(index, axis=1), np.stack(weight, axis=1)

@@ -325,7 +325,7 @@ def solve(scene, settings: HybridSettings):
         if S.P is not None:
             sph.compile_rest(S.P, S.E)
     compile_seconds = compiled.seconds
-    probe_points = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim]
+    probe_points = [pr.at(scene.dim) for pr in scene.probes] or [(0.0,) * scene.dim]
     probe_stencil = bilinear_stencil(grid, probe_points, coupling.periodic)
     run = _Run(scene, coupling, settings.record(), compile_seconds,
                History(interpolated(coupling.primitive(U)[-1:], probe_stencil)[0][: len(scene.probes)], 2 * scene.dim,

@@ -51,6 +51,12 @@ def _sedov_spherical(size: int):
     return scene, scene.dx
 
 
+def _sedov_3d(size: int):
+    """The spherical blast in a box of as many cells as the planar one of ``size``² (64³ for 512²)."""
+    scene = get("sedov_3d", n_out=round(size ** (2.0 / 3.0)))
+    return scene, scene.dx
+
+
 def _square_dam_break(size: int):
     scene = get("dam_break", dim=2, nx_out=size)
     return scene, scene.dx
@@ -82,7 +88,8 @@ def throughput(method: str, size: int, t_end: float, problem=None, **settings) -
     particles), as does WCSPH (pairs within its one support H). ``problem``
     replaces the method's problem (:data:`PROBLEMS`): :func:`bench` runs
     ``fv`` on the spherical Sedov blast in r–z too, on as many cells as the
-    planar one, for the rate of the axisymmetric scheme. A refined ``fv``
+    planar one, for the rate of the axisymmetric scheme, and in a 3D box
+    (to 0.1, about 120 steps at 64³) for the rate of the 3D step. A refined ``fv``
     run (``levels`` > 1) counts the cell updates its levels made (its
     ``cell_updates``), so its rate compares with the uniform grid's per
     cell updated."""
@@ -156,6 +163,8 @@ def cold_process(method: str) -> dict:
 SMALL_FV_GRIDS = ((64, 0.15), (128, 0.08))
 #: (cells across, t_end) of the large 2D Sedov grids of ``fv`` (about 60 steps each): the rate against size
 LARGE_FV_GRIDS = ((1024, 0.004), (2048, 0.001))
+#: the end of the 3D Sedov run of ``fv`` (its rate against the 2D step's on as many cells)
+SEDOV_3D_END = 0.1
 #: (finest cells across, levels, t_end) of the refined 2D Sedov run of ``fv``: the rate per cell updated
 REFINED_FV = (512, 3, 0.1)
 
@@ -173,6 +182,7 @@ def bench(output: str | Path = "bench.json", size: int = 512, quick: bool = Fals
             records += throughput(method, *sizes[method], precision="float32")
         if method == "fv":
             records += throughput(method, *sizes[method], problem=_sedov_spherical)
+            records += throughput(method, sizes[method][0], SEDOV_3D_END, problem=_sedov_3d)
         if method == "fv" and not quick:
             # small grids, long enough to be timed: the rate a step loop keeps when a grid is small
             for n, t_end in SMALL_FV_GRIDS + LARGE_FV_GRIDS:

@@ -45,7 +45,7 @@ def test_every_scene_builds_with_defaults(default_scene):
     scene = default_scene
     assert isinstance(scene, (Scene, WaterScene))
     assert scene.name in partmesh.scenes()
-    assert scene.dim in (1, 2) and len(scene.domain) == scene.dim
+    assert scene.dim in (1, 2, 3) and len(scene.domain) == scene.dim
     for side in scene.sides:
         bc = scene.boundaries[side]
         assert (isinstance(bc, Inflow) and scene.medium == "gas") or bc in scene.boundary_kinds
@@ -60,7 +60,7 @@ def test_every_scene_builds_with_defaults(default_scene):
 def test_probes_lie_inside_the_domain_and_outside_solids(default_scene):
     scene = default_scene
     for probe in scene.probes:
-        for c, (lo, hi) in zip((probe.x, probe.y), scene.domain):
+        for c, (lo, hi) in zip(probe.at(scene.dim), scene.domain):
             assert lo <= c <= hi, (scene.name, probe)
         for shape in scene.obstacles:
             assert shape.signed_distance(np.array(probe.x), np.array(probe.y)) >= 0, (scene.name, probe)
@@ -77,17 +77,19 @@ def test_initial_state_is_physical(default_scene):
     scene = default_scene
     grid = [scene.output.centres(a) for a in range(scene.dim)]
     if scene.dim == 1:
-        X, Y = grid[0], None
+        X, Y, Z = grid[0], None, ()
     else:
-        X, Y = np.meshgrid(grid[0], grid[1])
+        X, Y, *Z = np.meshgrid(*grid)
     if scene.medium == "water":
-        eta, u, v = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y))
+        eta, *velocity = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y))
         depth = eta - np.asarray(scene.bed(X, Y), float)
         assert np.all(np.isfinite(depth)) and np.any(depth > 0)  # water somewhere; land where depth <= 0
     else:
-        rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, scene.dx))
+        # (rho, u, v, p), in 3D (rho, u, v, w, p)
+        rho, *velocity, p = (np.broadcast_to(np.asarray(a, float), X.shape)
+                             for a in scene.initial(X, Y, scene.dx, *Z))
         assert np.all(rho > 0) and np.all(p > 0)
-    assert np.all(np.isfinite(u)) and np.all(np.isfinite(v))
+    assert all(np.all(np.isfinite(c)) for c in velocity)
 
 
 # --- the numbers of SPEC §4.1 ------------------------------------------------

@@ -29,7 +29,7 @@ well-conditioned Newton solve in ln s.
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import lru_cache, reduce
 from typing import NamedTuple
 
 import numpy as np
@@ -220,40 +220,46 @@ def sedov_profile(r, t, E, rho0, gamma: float = 1.4, geometry: str = "cylindrica
 
 
 def sedov(E, rho0, p0, x, y, times, gamma: float = 1.4, centre=(0.0, 0.0), case: str = "sedov",
-          geometry: str = "cylindrical") -> xr.Dataset:
-    """The Sedov-Taylor blast on a 2D grid, as a partmesh result Dataset.
+          geometry: str = "cylindrical", z=None) -> xr.Dataset:
+    """The Sedov-Taylor blast on a 2D or 3D grid, as a partmesh result Dataset.
 
     Fields on (time, y, x) from :func:`sedov_profile` with ``geometry``
     "cylindrical" (a planar grid, E per unit length, Kamm & Timmes 2007) or
     "spherical" (an axisymmetric grid, x the radius from the axis and y
-    along it, E the whole sphere's) about ``centre``:
-    u, v = u_r (x - xc)/r, u_r (y - yc)/r; p = max(p_sedov, p0), so the gas
+    along it, E the whole sphere's) about ``centre``; with ``z``, on
+    (time, z, y, x) of a 3D grid ("spherical", ``centre`` (xc, yc, zc)):
+    the velocity is u_r (x − x_c)/r along each axis; p = max(p_sedov, p0), so the gas
     ahead of the shock is at rho0, p0 and rest (the blast solution itself
     assumes p0 << p behind the shock); e = p/((gamma-1) rho), which is
     infinite at a grid point exactly at the centre (rho = 0 there).
     ``times`` > 0 (the point blast is singular at t = 0).
     """
     E, rho0, p0 = positive("E", E), positive("rho0", rho0), positive("p0", p0)
-    if geometry not in ("cylindrical", "spherical"):
-        raise ValueError(f"geometry must be 'cylindrical' or 'spherical' on a 2D grid, got {geometry!r}.")
+    if geometry not in ("cylindrical", "spherical") or (z is not None and geometry != "spherical"):
+        raise ValueError(f"geometry must be 'cylindrical' or 'spherical' on a 2D grid and 'spherical' on a 3D grid, "
+                         f"got {geometry!r}.")
     j = geometry_index(geometry)
     gamma = _check_gamma(gamma, j)
-    x, y = axis("x", x), axis("y", y)
+    coords = [axis("x", x), axis("y", y)] + ([] if z is None else [axis("z", z)])
+    if len(centre) != len(coords):
+        raise ValueError(f"centre must have {len(coords)} coordinates on a {len(coords)}D grid, got {len(centre)}.")
     times = output_times(times, allow_zero=False)
-    xc, yc = (float(c) for c in centre)
-    dx_c, dy_c = np.meshgrid(x - xc, y - yc)
-    r = np.hypot(dx_c, dy_c)
+    centre = [float(c) for c in centre]
+    # the offsets from the centre along x, y (, z), laid out ([z,] y, x)
+    offsets = np.meshgrid(*(c - cc for c, cc in zip(coords[::-1], centre[::-1])), indexing="ij")[::-1]
+    r = reduce(np.hypot, offsets)
     with np.errstate(invalid="ignore", divide="ignore"):
-        cos, sin = np.where(r > 0.0, dx_c / r, 0.0), np.where(r > 0.0, dy_c / r, 0.0)
+        directions = [np.where(r > 0.0, o / r, 0.0) for o in offsets]
     rows = [sedov_profile(r, t, E, rho0, gamma, geometry) for t in times]
     rho = np.stack([row[0] for row in rows])
     u_r = np.stack([row[1] for row in rows])
     p = np.maximum(np.stack([row[2] for row in rows]), p0)
     return result(
         case=case, method="exact", scheme=f"Sedov-Taylor blast, {geometry} (Kamm & Timmes 2007 closed form)",
-        x=x, y=y, times=times, dx=float(np.mean(np.diff(x))),
-        fields={"rho": rho, "u": u_r * cos, "v": u_r * sin, "p": p, "e": internal_energy(p, rho, gamma)},
-        parameters={"E": E, "rho0": rho0, "p0": p0, "gamma": gamma, "centre": [xc, yc],
+        x=coords[0], y=coords[1], z=z if z is None else coords[2], times=times, dx=float(np.mean(np.diff(coords[0]))),
+        fields={"rho": rho, **{c: u_r * n for c, n in zip("uvw", directions)}, "p": p,
+                "e": internal_energy(p, rho, gamma)},
+        parameters={"E": E, "rho0": rho0, "p0": p0, "gamma": gamma, "centre": centre,
                     "geometry": geometry, "alpha": _alpha(gamma, j)},
-        geometry="axisymmetric" if j == 3 else "planar",
+        geometry="axisymmetric" if j == 3 and z is None else "planar",
     )

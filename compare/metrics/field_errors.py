@@ -4,6 +4,7 @@ fields on one grid, and of every field of a run against a reference."""
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from functools import reduce
 
 import numpy as np
 import xarray as xr
@@ -39,7 +40,7 @@ def _cell_widths(c: np.ndarray) -> np.ndarray:
 def field_error(a: xr.DataArray, b: xr.DataArray, norm: str = "L1", region: Mapping | None = None, mask=None) -> float:
     """Cell-size-weighted error norm between two fields on the same grid.
 
-    With d = a − b and the cell sizes ΔV_i (Δx in 1D, Δx Δy in 2D; for a
+    With d = a − b and the cell sizes ΔV_i (Δx in 1D, Δx Δy in 2D, Δx Δy Δz in 3D; for a
     non-uniform coordinate the cell edges lie halfway between centres) over
     the compared cells C:
 
@@ -55,7 +56,7 @@ def field_error(a: xr.DataArray, b: xr.DataArray, norm: str = "L1", region: Mapp
 
     Parameters
     ----------
-    a, b : DataArray on ``(x,)`` or ``(y, x)`` (any 1 or 2 dims, same on both)
+    a, b : DataArray on ``(x,)``, ``(y, x)`` or ``(z, y, x)`` (any 1 to 3 dims, same on both)
         b may list its dims in another order; it is transposed to a's.
     norm : "L1", "L2" or "Linf" (case-insensitive).
     region : dict, optional
@@ -69,7 +70,7 @@ def field_error(a: xr.DataArray, b: xr.DataArray, norm: str = "L1", region: Mapp
     Raises
     ------
     ValueError
-        for an unknown norm, a/b with other than 1 or 2 dims or with
+        for an unknown norm, a/b with other than 1 to 3 dims or with
         different dims, coordinates that differ by more than 1e-12 (relative
         to max(1, |coordinate|); the message names the coordinate), a bad
         region or mask, or no cell left to compare.
@@ -77,8 +78,9 @@ def field_error(a: xr.DataArray, b: xr.DataArray, norm: str = "L1", region: Mapp
     a = dataarray("a", a)
     b = dataarray("b", b)
     norm = _norm_name(norm)
-    if a.ndim not in (1, 2):
-        raise ValueError(f"a must be a 1D (x) or 2D (y, x) field (select a time first), got dims {a.dims}.")
+    if a.ndim not in (1, 2, 3):
+        raise ValueError(f"a must be a 1D (x), 2D (y, x) or 3D (z, y, x) field (select a time first), "
+                         f"got dims {a.dims}.")
     if set(a.dims) != set(b.dims):
         raise ValueError(f"b must have the same dims as a {a.dims}, got {b.dims}.")
     b = b.transpose(*a.dims)
@@ -127,7 +129,7 @@ def field_error(a: xr.DataArray, b: xr.DataArray, norm: str = "L1", region: Mapp
     if norm == "Linf":
         return float(diff.max())
     widths = [_cell_widths(coords[d]) for d in a.dims]
-    vol = widths[0] if a.ndim == 1 else np.outer(widths[0], widths[1])
+    vol = reduce(np.multiply.outer, widths)
     w = vol[keep]
     if norm == "L1":
         return float(np.sum(diff * w) / np.sum(w))

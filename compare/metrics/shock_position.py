@@ -74,7 +74,8 @@ def shock_radius(
     ambient: float | None = None,
     bin_width: float | None = None,
 ) -> float:
-    """Mean radius of the front of a cylindrical blast in a 2D (y, x) field.
+    """Mean radius of the front of a cylindrical blast in a 2D (y, x) field
+    (or of a spherical one in a 3D (z, y, x) field, ``centre`` (x, y, z), in shells).
 
     The field is azimuthally averaged in rings of width ``bin_width``
     (default: the larger cell spacing) about ``centre``: for ring k,
@@ -139,17 +140,28 @@ def ring_profile(field2d: xr.DataArray, centre: tuple[float, float] = (0.0, 0.0)
 
 
 def _rings(field2d, centre, bin_width):
-    """``(r̄, v̄)`` of :func:`ring_profile` and the radii and values of the finite cells."""
+    """``(r̄, v̄)`` of :func:`ring_profile` and the radii and values of the finite cells
+    (of a 3D field on (z, y, x) about ``centre`` (x, y, z): spherical shells)."""
     f = dataarray("field2d", field2d)
-    if f.ndim != 2 or not {"x", "y"} <= set(f.dims):
-        raise ValueError(f"field2d must be a 2D field on (y, x), got dims {f.dims}.")
-    xc, yc = pair("centre", centre, "(x, y)")
-    f = f.transpose("y", "x")
-    x, y = coordinate(f, "x"), coordinate(f, "y")
-    v = np.asarray(f.values, dtype=float)
-    r = np.hypot(x[None, :] - xc, y[:, None] - yc)
+    three = f.ndim == 3 and set(f.dims) == {"x", "y", "z"}
+    if not (three or (f.ndim == 2 and {"x", "y"} <= set(f.dims))):
+        raise ValueError(f"field2d must be a 2D field on (y, x) or a 3D field on (z, y, x), got dims {f.dims}.")
+    if three:
+        if len(centre) != 3:
+            raise ValueError(f"centre must be a triple (x, y, z) of numbers for a 3D field, got {centre!r}.")
+        f = f.transpose("z", "y", "x")
+        axes = [coordinate(f, d) for d in "xyz"]
+        v = np.asarray(f.values, dtype=float)
+        offsets = [a - number("centre", c) for a, c in zip(axes, centre)]
+        r = np.sqrt(offsets[0][None, None, :] ** 2 + offsets[1][None, :, None] ** 2 + offsets[2][:, None, None] ** 2)
+    else:
+        xc, yc = pair("centre", centre, "(x, y)")
+        f = f.transpose("y", "x")
+        axes = [coordinate(f, "x"), coordinate(f, "y")]
+        v = np.asarray(f.values, dtype=float)
+        r = np.hypot(axes[0][None, :] - xc, axes[1][:, None] - yc)
     if bin_width is None:
-        spac = [float(np.median(np.abs(np.diff(c)))) for c in (x, y) if c.size > 1]
+        spac = [float(np.median(np.abs(np.diff(c)))) for c in axes if c.size > 1]
         if not spac:
             raise ValueError("field2d must have more than one cell along x or y.")
         bin_width = max(spac)

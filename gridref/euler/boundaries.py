@@ -9,6 +9,7 @@ imposed primitive state of the current time in every ghost cell).
 from __future__ import annotations
 
 import jax.numpy as jnp
+import numpy as np
 
 N_GHOST = 2
 
@@ -45,12 +46,20 @@ def ghost_layer(a, axis, side, kind, value=None, flip=False, ng=N_GHOST):
     inflow value."""
     n = a.shape[axis]
     if kind == "periodic":
+        if n < ng:  # fewer cells than ghosts: the images wrap more than once
+            return jnp.take(a, (np.arange(ng) - ng if side == "lo" else np.arange(ng)) % n, axis=axis)
         return _take(a, axis, n - ng, n) if side == "lo" else _take(a, axis, 0, ng)
     if kind == "outflow":
         edge = _take(a, axis, 0, 1) if side == "lo" else _take(a, axis, n - 1, n)
         return jnp.repeat(edge, ng, axis=axis)
     if kind == "reflect":
-        mirror = _take(a, axis, ng - 1, None, -1) if side == "lo" else _take(a, axis, n - 1, n - ng - 1, -1)
+        if n < ng:  # fewer cells than ghosts: the mirror images fold back at the far side too
+            fold = np.arange(ng) % (2 * n)
+            fold = np.where(fold < n, fold, 2 * n - 1 - fold)
+            mirror = jnp.take(a, fold[::-1] if side == "lo" else n - 1 - fold, axis=axis)
+        else:
+            mirror = (_take(a, axis, ng - 1, None, -1) if side == "lo" else
+                      _take(a, axis, n - 1, n - ng - 1 if n > ng else None, -1))
         return -mirror if flip else mirror
     if kind == "inflow":
         shape = list(a.shape)

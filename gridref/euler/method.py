@@ -45,6 +45,8 @@ class FVSettings(Settings):
         super().check_together(scene)
         if self.levels == 1:
             return
+        if scene.dim == 3:
+            raise InputError(f"levels > 1 refines 1D and 2D scenes for now, and {scene.name} is 3D: use levels = 1.")
         if self.derefine > self.refine:
             raise InputError(f"derefine must not exceed refine ({self.refine:g}), got {self.derefine:g}.")
         if scene.obstacles and scene.geometry != "planar":
@@ -76,4 +78,4 @@ def refined_cell_bytes(variables: int, dim: int) -> float:
 
 
 METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve",
-                geometries=("planar", "axisymmetric", "spherical"))
+                geometries=("planar", "axisymmetric", "spherical"), dims=(1, 2, 3))

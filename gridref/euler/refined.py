@@ -77,7 +77,7 @@ class Refined:
             self.forced = (None,) * (L - 1) + (bodies,)
         else:
             self.forced = None
-        points = [(pr.x, pr.y)[: lay.dim] for pr in scene.probes] or [(0.0,) * lay.dim]
+        points = [pr.at(lay.dim) for pr in scene.probes] or [(0.0,) * lay.dim]
         self.stencils = [tuple(jnp.asarray(a) for a in s) for s in probe_stencils(self.levels, points)]
         gamma, n_vars = self.gamma, self.n_vars
 

@@ -20,6 +20,7 @@ from partmesh.gridref.revolution import GEOMETRIES
 
 
 def _primitive_state(scene, rho, u, v, p):
+    """The scene's primitive state ``(rho, u, v, p)`` in the solver's layout: ``(rho, u, p)`` in 1D."""
     return (rho, u, p) if scene.dim == 1 else (rho, u, v, p)
 
 
@@ -44,12 +45,15 @@ def inflow_states(scene, t):
 
 def initial_state(scene, grid, fluid=None):
     """The scene's initial state on ``grid`` as conservative variables
-    (checked: positive density and pressure in the ``fluid`` cells)."""
-    X, Y = mesh(grid)
+    (checked: positive density and pressure in the ``fluid`` cells); a 3D
+    scene's ``initial(x, y, dx, z)`` gives ``(rho, u, v, w, p)``."""
+    points = mesh(grid)
     dx = float(grid.step[0])
-    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), X.shape) for a in scene.initial(X, Y, dx))
-    check_initial_state(scene, rho, p, X, Y, fluid=fluid)
-    return conservative(tuple(jnp.asarray(a) for a in _primitive_state(scene, rho, u, v, p)), scene.gamma)
+    W = scene.initial(*points[:2], dx, *points[2:])
+    W = tuple(np.broadcast_to(np.asarray(a, float), points[0].shape) for a in W)
+    check_initial_state(scene, W[0], W[-1], *points, fluid=fluid)
+    return conservative(tuple(jnp.asarray(a) for a in (W if scene.dim == 3 else _primitive_state(scene, *W))),
+                        scene.gamma)
 
 
 def immersed_for(scene, grid):
@@ -76,20 +80,18 @@ def failure_sentence(U, gamma, grid, t, n_steps, dt, fluid=None):
         if np.any(bad):
             where = np.unravel_index(np.flatnonzero(bad)[0], bad.shape)
             coords = [c[i] for c, i in zip(cell_centres(grid), where[::-1])]
-            at = ", ".join(f"{a} = {c:.6g} m" for a, c in zip("xy", coords))
+            at = ", ".join(f"{a} = {c:.6g} m" for a, c in zip("xyz", coords))
             return (f"fv became unstable at t = {t:.6g} s (step {n_steps}): {name} {W[k][where]:.3g} "
                     f"is not positive at {at}.")
     return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."
 
 
 def named_fields(W, gamma, names, solid=None) -> dict:
-    """The schema's fields ``names`` (of rho, u, v, p, e) from the primitive
+    """The schema's fields ``names`` (of rho, u, v, w, p, e) from the primitive
     state ``W`` as numpy arrays, NaN in the ``solid`` cells."""
     W = [np.asarray(a) for a in W]
     rho, p = W[0], W[-1]
-    values = {"rho": rho, "u": W[1], "p": p, "e": p / ((gamma - 1.0) * rho)}
-    if len(W) == 4:
-        values["v"] = W[2]
+    values = {"rho": rho, "p": p, "e": p / ((gamma - 1.0) * rho), **dict(zip("uvw", W[1:-1]))}
     out = {}
     for name in names:
         f = np.array(values[name])

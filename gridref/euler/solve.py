@@ -44,7 +44,7 @@ def solve(scene, settings: FVSettings):
     ib = immersed_for(scene, grid)
     U = initial_state(scene, grid, None if ib is None else ib.fluid)
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
-    probe_idx, probe_w = bilinear_stencil(grid, [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(0.0,) * scene.dim])
+    probe_idx, probe_w = bilinear_stencil(grid, [pr.at(scene.dim) for pr in scene.probes] or [(0.0,) * scene.dim])
     probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
     stepper = _stepper_for(scene, scheme, U, ib, probe_pressure, (probe_idx.tobytes(), probe_w.tobytes()),
                            len(probe_w))
@@ -135,9 +135,9 @@ class _Run(RunRecord):
     def output(self) -> Output:
         scene, out, s = self.scene, self.scene.output, self.settings
         src = cell_centres(self.grid)
-        pairs = (src[0], out.x) if scene.dim == 1 else (src[0], out.x, src[1], out.y)
+        pairs = [c for d in range(scene.dim) for c in (src[d], out.centres(d))]
         fields, how = {}, "identity"
-        periodic = scene.periodic + (False,)
+        periodic = scene.periodic
         solid_out = None if self.solid is None else to_output_grid(self.solid.astype(float), *pairs,
                                                                    periodic=periodic)[0] > 0.5
         for name in scene.fields:

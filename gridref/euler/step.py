@@ -26,7 +26,7 @@ outputs are materialised between kernels: as one program, XLA:CPU fuses the
 predictor into every flux consumer and recomputes it many times over (an
 order of magnitude slower, measured with ``partmesh bench``).
 
-A 2D grid without bodies is stepped in strips of rows (:func:`strip_attempt`):
+A 2D or 3D grid without bodies is stepped in strips of rows or planes (:func:`strip_attempt`):
 the pipeline runs on one strip, then the next, so that its materialised
 arrays stay in the processor's caches (2048² Sedov: 3.2e6 cell updates/s
 whole, 1.1e7 in strips; 512²: 9.5e6 and 1.4e7).
@@ -233,10 +233,10 @@ def flux_divergence(fluxes, scheme: Scheme, apertures=None, rings: Rings | None 
     volume (the cells' ``rings``, :mod:`partmesh.gridref.revolution`).
 
     ``side_forces[i]`` is the normal momentum flux integrated over side
-    ``i`` (planar: per metre depth in 2D, per square metre in 1D; of
-    revolution: over the whole revolved side): the time-centred force the
-    gas exerts on that side; ``counted`` (all 1 if None) weighs the rows of
-    a 2D grid in the forces on the x sides.
+    ``i`` (planar: per metre depth in 2D, per square metre in 1D, the whole
+    side in 3D; of revolution: over the whole revolved side): the time-centred force the
+    gas exerts on that side; ``counted`` (all 1 if None) weighs the rows (2D)
+    or planes (3D) of the first array axis in the forces on the sides along it.
     """
     axes, dx, dim, k = scheme.axes, scheme.dx, scheme.dim, scheme.radial
     divergence = [0.0] * len(fluxes[0])
@@ -251,8 +251,8 @@ def flux_divergence(fluxes, scheme: Scheme, apertures=None, rings: Rings | None 
             F = tuple(f * rings.areas for f in F)
         divergence = [acc + (_shifted(f, axes[d], False) - _shifted(f, axes[d], True)) * inv_dx
                       for acc, f in zip(divergence, F)]
-        momentum = F[1 + d] if counted is None or d else F[1 + d] * counted[:, None]
-        area = 1.0 if dim == 1 else dx[1 - d]
+        momentum = F[1 + d] if counted is None or d == dim - 1 else F[1 + d] * counted.reshape((-1,) + (1,) * (dim - 1))
+        area = float(np.prod([dx[e] for e in range(dim) if e != d]))  # a face's (1 in 1D; per metre depth in 2D)
         if k:  # the whole turn, and along the radius each face's mean radius (a radial side's is in F already)
             area = REVOLUTION[k] * area * (1.0 if d == 0 else rings.volumes)
             forces += [jnp.sum(jnp.take(momentum, i, axis=axes[d]) * area) for i in (0, n - 1)]
@@ -310,20 +310,20 @@ STRIP_CELLS = 32768
 
 
 def strip_rows(shape) -> int | None:
-    """The rows of each strip of a 2D grid of ``shape`` (y, x) that
+    """The rows (2D, along y) or planes (3D, along z) of each strip of a
+    grid of ``shape`` (``(y, x)`` or ``(z, y, x)``) that
     :func:`strip_attempt` steps in turn: as many as :data:`STRIP_CELLS`
-    allows, at least four, and at least two strips; None for a grid too
+    allows, at least four, and at least two strips; None for a 1D grid or one too
     small to be split, and off the CPU, where a loop over strips would
     serialise what the device runs in parallel (the grid is stepped whole)."""
-    if len(shape) != 2 or shape[0] < 8 or not STRIP_CELLS or jax.default_backend() != "cpu":
+    if len(shape) < 2 or shape[0] < 8 or not STRIP_CELLS or jax.default_backend() != "cpu":
         return None
-    ny, nx = shape
-    return max(4, min(ny // 2, STRIP_CELLS // nx))
+    return max(4, min(shape[0] // 2, STRIP_CELLS // int(np.prod(shape[1:]))))
 
 
 def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into, rings: Rings | None = None):
-    """``(U^{n+1}, ok, side_forces, dt_next)`` of a 2D grid without bodies,
-    stepped in strips of ``rows`` rows (ghost cells, slopes, predictor,
+    """``(U^{n+1}, ok, side_forces, dt_next)`` of a 2D or 3D grid without bodies,
+    stepped in strips of ``rows`` rows of its first array axis (y in 2D, z in 3D; ghost cells, slopes, predictor,
     fluxes, update and CFL step of one strip, then the next): the same
     arithmetic cell by cell as the whole grid's pipeline, but each strip's
     intermediate arrays stay in the processor's caches, where the whole
@@ -337,18 +337,19 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
     overlapping rows come out the same and count once in the side forces."""
     ny, g = U[0].shape[0], N_GHOST
     gamma, last = scheme.gamma, ny - rows
-    # the y sides' ghost rows: those of the first and last rows alone, ghosted as the whole grid is
+    across = tuple(range(scheme.dim - 1))  # the directions along a strip (x; x and y in 3D)
+    # the strip axis's ghost rows: those of the first and last rows alone, ghosted as the whole grid is
     edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
     edges = staged(lambda E: ghosted_primitive(E, states, scheme), gate)(edges)
     crowding = None if rings is None else rings.crowding
 
     def window(U, start):
-        """The strip's primitive state with its ghost cells: its neighbours' rows or the y sides' ghosts."""
+        """The strip's primitive state with its ghost cells: its neighbours' rows or the end sides' ghosts."""
         above = [jax.lax.dynamic_slice_in_dim(u, jnp.maximum(start - g, 0), g) for u in U]
         below = [jax.lax.dynamic_slice_in_dim(u, jnp.minimum(start + rows, ny - g), g) for u in U]
         inner = [jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U]
         W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gamma)
-        W = with_ghosts(W, scheme.kinds, states, directions=(0,))
+        W = with_ghosts(W, scheme.kinds, states, directions=across)
         return tuple(jnp.concatenate([jnp.where(start == 0, e[:g], w[:g]), w[g:-g],
                                       jnp.where(start == last, e[-g:], w[-g:])]) for w, e in zip(W, edges))
 
@@ -370,13 +371,13 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
             return U_s, forces, stable_dt(U_s, gamma, scheme.dx, scheme.cfl, None, crowding)
 
         U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
-        # the x sides through every strip; the y sides through the first and last strips' outer faces
-        sides = jnp.array([True, True, start == 0, start == last], dtype=forces_s.dtype)
+        # the sides along the strips through every strip; the end sides through the first and last strips' outer faces
+        sides = jnp.array([True, True] * len(across) + [start == 0, start == last], dtype=forces_s.dtype)
         return (tuple(jax.lax.dynamic_update_slice_in_dim(a, b, start, 0) for a, b in zip(U_new, U_s)),
                 jax.lax.dynamic_update_slice_in_dim(ok, ok_s, start, 0), forces + sides * forces_s,
                 jnp.minimum(dt_next, dt_s))
 
-    start = (tuple(into), jnp.zeros(allowed.shape, bool), jnp.zeros(4), jnp.array(jnp.inf))
+    start = (tuple(into), jnp.zeros(allowed.shape, bool), jnp.zeros(2 * scheme.dim), jnp.array(jnp.inf))
     return jax.lax.fori_loop(0, -(-ny // rows), strip, start)
 
 

@@ -101,7 +101,7 @@ def solve(scene, settings: SWESettings):
     scheme = Scheme(g=scene.g, dx=tuple(grid.step), kinds=tuple(scene.boundaries[s] for s in scene.sides),
                     radial=scene.geometry == "radial", limiter=settings.limiter, cfl=settings.cfl)
     radius = radii(cell_centres(grid)[0], grid.step[0], dtype) if scheme.radial else None
-    gauges = [(pr.x, pr.y)[: scene.dim] for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
+    gauges = [pr.at(scene.dim) for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
     gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
     stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight),
                       dtype)

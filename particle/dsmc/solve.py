@@ -443,7 +443,7 @@ class _Run(RunRecord):
 
     def __init__(self, scene, gas, settings, compile_seconds):
         self.scene, self.gas = scene, gas
-        points = np.array([[pr.x, pr.y][: scene.dim] for pr in scene.probes], dtype=float).reshape(-1, scene.dim)
+        points = np.array([pr.at(scene.dim) for pr in scene.probes], dtype=float).reshape(-1, scene.dim)
         self.read = probe_cells(gas.cells, points, [pr.shell for pr in scene.probes])
         super().__init__(scene, "dsmc", settings, compile_seconds, History(self.probes(), 2 * scene.dim, scene.t_start))
         self.sums = gas.output_sums()

@@ -217,7 +217,7 @@ def _inflow_buffer(scene, P: Particles, eta: float):
 def _sample_points(scene) -> np.ndarray:
     """Probe positions, then the midpoint of every side of the domain."""
     dim = scene.dim
-    points = [(pr.x, pr.y)[:dim] for pr in scene.probes]
+    points = [pr.at(dim) for pr in scene.probes]
     for d in range(2 * dim):
         axis, upper = d // 2, d % 2
         mid = [0.5 * (lo + hi) for lo, hi in scene.domain]
