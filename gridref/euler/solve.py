@@ -22,6 +22,7 @@ from partmesh.gridref.euler.step import FLOOR, Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
 from partmesh.gridref.jax_setup import configure_jax
 from partmesh.gridref.revolution import GEOMETRIES, revolved
+from partmesh.gridref.sharding import sharded
 
 
 def solve(scene, settings: FVSettings):
@@ -42,7 +43,7 @@ def solve(scene, settings: FVSettings):
     dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl
     grid = solver_grid(scene.domain, dx)
     ib = immersed_for(scene, grid)
-    U = initial_state(scene, grid, None if ib is None else ib.fluid)
+    U = sharded(initial_state(scene, grid, None if ib is None else ib.fluid))
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [pr.at(scene.dim) for pr in scene.probes] or [(0.0,) * scene.dim])
     probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
@@ -51,13 +52,15 @@ def solve(scene, settings: FVSettings):
     with compiling("fv", settings.progress, GRID_SIZE) as compiled:
         stepper.compile(U)
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=compiled.seconds,
-               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start))
+               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start),
+               devices=len(U[0].sharding.device_set))
     t, state = scene.t_start, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))
     ckpt = checkpoint_for(scene, settings)
     saved = ckpt.saved_state(run)
     if saved is not None:
-        state, t, dt_cfl = jax.tree_util.tree_map(jnp.asarray, saved["state"]), saved["t"], saved["dt_cfl"]
+        (U_saved, floors), t, dt_cfl = saved["state"], saved["t"], saved["dt_cfl"]
+        state = (sharded(tuple(jnp.asarray(u) for u in U_saved)), jnp.asarray(floors))
 
     def diagnose(state, t, step, dt, failed):
         U = state[0]
@@ -111,9 +114,11 @@ class _Run(RunRecord):
     """The record of one fv run; frames are kept on the solver grid and
     regridded onto the output grid when the result is assembled."""
 
-    def __init__(self, scene, grid, immersed, settings, compile_seconds, history):
+    def __init__(self, scene, grid, immersed, settings, compile_seconds, history, devices=1):
         super().__init__(scene, "fv", settings, compile_seconds, history)
         self.grid = grid
+        #: the devices the grid is split across (:mod:`partmesh.gridref.sharding`)
+        self.devices = devices
         #: cells the vacuum floors changed, and the mass and energy they added, up to the latest frame
         self.floors = np.zeros(3)
         #: the open volume fraction of every cell (1 without obstacles) and the cells whose centre is in a body
@@ -151,5 +156,5 @@ class _Run(RunRecord):
                   "turns negative")
         cells, mass, energy = self.floors
         attrs = {"regrid": how, "vacuum_floors": int(cells), "vacuum_floor_mass": float(mass),
-                 "vacuum_floor_energy": float(energy)}
+                 "vacuum_floor_energy": float(energy), "devices": self.devices}
         return Output(fields, solid_out, scheme, int(np.prod(self.grid.shape)), attrs)

@@ -314,9 +314,11 @@ def strip_rows(shape) -> int | None:
     grid of ``shape`` (``(y, x)`` or ``(z, y, x)``) that
     :func:`strip_attempt` steps in turn: as many as :data:`STRIP_CELLS`
     allows, at least four, and at least two strips; None for a 1D grid or one too
-    small to be split, and off the CPU, where a loop over strips would
-    serialise what the device runs in parallel (the grid is stepped whole)."""
-    if len(shape) < 2 or shape[0] < 8 or not STRIP_CELLS or jax.default_backend() != "cpu":
+    small to be split, off the CPU, where a loop over strips would
+    serialise what the device runs in parallel (the grid is stepped whole),
+    and where devices share the grid (:mod:`partmesh.gridref.sharding`)."""
+    if (len(shape) < 2 or shape[0] < 8 or not STRIP_CELLS or jax.default_backend() != "cpu"
+            or jax.device_count() > 1):
         return None
     return max(4, min(shape[0] // 2, STRIP_CELLS // int(np.prod(shape[1:]))))
 
