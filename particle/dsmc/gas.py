@@ -37,12 +37,12 @@ def _count(state, expected):
 
 
 @numba.njit(parallel=True, cache=True)
-def particles_in_cells(lo, spacing, shape, rho, u, v, p, mass, zeta, seed, step, key0):
+def particles_in_cells(lo, spacing, shape, rho, u, v, w, p, mass, zeta, seed, step, key0):
     """``(x, v, e)``: particles of mass ``mass`` filling the cells of a uniform
-    grid (origin ``lo``, ``spacing`` and int64 ``shape`` per axis, dim = 1
-    or 2) with the states ``rho``, ``u``, ``v``, ``p`` (flat arrays, x
+    grid (origin ``lo``, ``spacing`` and int64 ``shape`` per axis, dim = 1,
+    2 or 3) with the states ``rho``, ``u``, ``v``, ``w``, ``p`` (flat arrays, x
     fastest). Cell c gets ⌊ρV/mass + ξ⌋ particles (the mean mass is exact),
-    uniformly placed, with equilibrium velocities (normal about (u, v, 0),
+    uniformly placed, with equilibrium velocities (normal about (u, v, w),
     variance θ = p/ρ per component) and internal energies (θ Gamma(ζ/2)).
     Cell c draws from the stream ``(seed, step, key0 + c)``: the result does
     not depend on the thread count."""
@@ -62,21 +62,22 @@ def particles_in_cells(lo, spacing, shape, rho, u, v, p, mass, zeta, seed, step,
     e = np.zeros(n)
     for c in numba.prange(ncell):
         state = _count(stream(seed, step, key0 + c), 0.0)[0]
-        corner0 = lo[0] + (c % shape[0]) * spacing[0]
-        corner1 = lo[1] + (c // shape[0]) * spacing[1] if dim == 2 else 0.0
+        corner = np.empty(dim)
+        stride = 1
+        for a in range(dim):
+            corner[a] = lo[a] + ((c // stride) % shape[a]) * spacing[a]
+            stride *= shape[a]
         scale = np.sqrt(p[c] / rho[c])
         for k in range(first[c], first[c + 1]):
-            state, w = uniform(state)
-            x[k, 0] = corner0 + w * spacing[0]
-            if dim == 2:
-                state, w = uniform(state)
-                x[k, 1] = corner1 + w * spacing[1]
+            for a in range(dim):
+                state, xi = uniform(state)
+                x[k, a] = corner[a] + xi * spacing[a]
             state, z0 = normal(state)
             state, z1 = normal(state)
             state, z2 = normal(state)
             vel[k, 0] = u[c] + scale * z0
             vel[k, 1] = v[c] + scale * z1
-            vel[k, 2] = scale * z2
+            vel[k, 2] = w[c] + scale * z2
             if zeta > 0.0:
                 state, g = gamma(state, 0.5 * zeta)
                 e[k] = scale * scale * g

@@ -70,6 +70,9 @@ class DSMCSettings(Settings):
         super().check_together(scene)
         if scene.obstacles and scene.dim != 2:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
+        if scene.dim == 3 and any(scene.boundaries[side] not in ("reflect", "periodic") for side in scene.sides):
+            raise Unsupported(f"scene {scene.name}: dsmc runs 3D boxes with reflecting and periodic sides only so "
+                              "far (no open side's reservoir in 3D).")
         if scene.geometry == "axisymmetric" and scene.obstacles:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in planar scenes only (a molecule's "
                               "straight flight is a curve in the r-z plane).")
@@ -105,4 +108,4 @@ def memory(scene, settings: DSMCSettings) -> Memory:
 
 
 METHOD = Method("dsmc", "gas", DSMCSettings, memory, "partmesh.particle.dsmc.solve:solve", takes_seed=True,
-                geometries=("planar", "axisymmetric"))
+                geometries=("planar", "axisymmetric"), dims=(1, 2, 3))

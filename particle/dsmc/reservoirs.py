@@ -25,11 +25,13 @@ OUTFLOW_MEMORY = 20.0
 
 
 def boundary_layer(side, dim):
-    """Index of the cells next to ``side`` in a (ny, nx) or (nx,) array."""
+    """Index of the cells next to ``side`` in a (nx,), (ny, nx) or (nz, ny, nx) array."""
     axis, upper = side // 2, side % 2 == 1
     if dim == 1:
         return -1 if upper else 0
-    return (slice(None), -1 if upper else 0) if axis == 0 else (-1 if upper else 0, slice(None))
+    index = [slice(None)] * dim
+    index[dim - 1 - axis] = -1 if upper else 0
+    return tuple(index)
 
 
 class Reservoirs:
@@ -67,7 +69,8 @@ class Reservoirs:
         corner, size = self.lo.copy(), self.hi - self.lo
         corner[axis], size[axis] = (self.hi[axis] if upper else self.lo[axis] - depth), depth
         x, vel, e = particles_in_cells(corner, size, np.ones(dim, dtype=np.int64),
-                                       *(np.array([q], dtype=float) for q in (rho * self.fill, u, v, p * self.fill)),
+                                       *(np.array([q], dtype=float) for q in (rho * self.fill, u, v, 0.0,
+                                                                              p * self.fill)),
                                        self.mass, self.zeta, self.seed, n, 2 * self.ncell + side)
         if self.polygons is not None:  # an obstacle may run out through the side: no gas inside it
             fluid = ~inside_obstacles(x, *self.polygons)

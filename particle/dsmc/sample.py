@@ -18,9 +18,24 @@ schema's ρ(e + ½|u|²) summed over the cells is the particles' energy.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from partmesh.particle.dsmc.cells import cell_index
+
+
+class CellState(NamedTuple):
+    """The state of the cells from their moments: density, the three
+    velocity components (those along axes the scene does not resolve are
+    scatter about zero), pressure and specific internal energy."""
+
+    rho: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    p: np.ndarray
+    e: np.ndarray
 
 
 class CellSums:
@@ -71,13 +86,13 @@ class CellSums:
         self.s2 += other.s2
         self.samples += other.samples
 
-    def state(self, mass, gamma):
-        """``(rho, u, v, p, e)`` per cell (NaN velocity and pressure where no
-        particle was sampled), each of the grid's shape ((ny, nx) in 2D)."""
+    def state(self, mass, gamma) -> "CellState":
+        """The :class:`CellState` per cell (NaN velocity and pressure where no
+        particle was sampled), each of the grid's shape ((ny, nx) in 2D, (nz, ny, nx) in 3D)."""
         rho, U, p, e = moment_state(self.s0, self.s1, self.s2, self.volume, self.samples, mass, gamma,
                                     len(self.shape))
         grid = tuple(reversed(self.shape))
-        return tuple(q.reshape(grid) for q in (rho, U[:, 0], U[:, 1], p, e))
+        return CellState(*(q.reshape(grid) for q in (rho, U[:, 0], U[:, 1], U[:, 2], p, e)))
 
 
 def moment_state(s0, s1, s2, volume, samples, mass, gamma, resolved):

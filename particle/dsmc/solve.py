@@ -37,6 +37,8 @@ even count per ring cell (:mod:`partmesh.particle.dsmc.axisymmetric`);
 
 from __future__ import annotations
 
+from functools import reduce
+
 
 import numba
 import numpy as np
@@ -148,7 +150,7 @@ def _compile_kernels(dim, zeta, collisions, radial=False):
                 np.zeros((1, 3)), np.zeros(1))
     cell_index(x, lo, spacing, shape)
     one = np.ones(1)
-    particles_in_cells(lo, spacing, shape, one, 0.0 * one, 0.0 * one, one, 1.0, zeta, 0, 0, 0)
+    particles_in_cells(lo, spacing, shape, one, 0.0 * one, 0.0 * one, 0.0 * one, one, 1.0, zeta, 0, 0, 0)
     if dim == 2:
         polygons = obstacle_polygons([_UNIT_SQUARE], 1.0)
         fly_past_obstacles(x, v, 0.0, *polygons)
@@ -168,10 +170,11 @@ class _Gas:
         self.dx = float(self.spacing.min())
         self.sides = np.array([_side_kind(scene.boundaries[s]) for s in scene.sides], dtype=np.int64)
         centres = [self.lo[a] + (np.arange(self.shape[a]) + 0.5) * self.spacing[a] for a in range(dim)]
-        grid = np.meshgrid(*centres, indexing="xy") if dim == 2 else centres
-        rho, u, v, p = (np.broadcast_to(np.asarray(q, float), grid[0].shape)
-                        for q in scene.initial(grid[0], grid[1] if dim == 2 else None, self.dx))
-        v = v if dim == 2 else np.zeros_like(u)
+        grid = centres if dim == 1 else np.meshgrid(*centres[::-1], indexing="ij")[::-1]  # ([z,] y, x) layout
+        given = scene.initial(grid[0], grid[1] if dim > 1 else None, self.dx, *grid[2:])
+        rho, u, v, *w, p = (np.broadcast_to(np.asarray(q, float), grid[0].shape) for q in given)
+        v = v if dim > 1 else np.zeros_like(u)
+        w = w[0] if dim == 3 else np.zeros_like(u)
         #: ring cells and weighted particles (:mod:`partmesh.particle.dsmc.axisymmetric`)
         self.radial = scene.geometry == "axisymmetric"
         self.fill = fill_factor(self.spacing[0]) if self.radial else 1.0
@@ -182,9 +185,9 @@ class _Gas:
         #: redraw interval (:mod:`partmesh.particle.dsmc.intervals`); None: every cell every step
         self.hold = np.zeros(self.ncell) if redraw == "local" else None
         self.reach = cfl * self.dx
-        flat = [np.array(q, dtype=float).reshape(-1) for q in (rho, u, v, p)]  # (writable: one kernel signature)
+        flat = [np.array(q, dtype=float).reshape(-1) for q in (rho, u, v, w, p)]  # (writable: one kernel signature)
         if self.radial:
-            flat[0], flat[3] = flat[0] * self.fill, flat[3] * self.fill
+            flat[0], flat[-1] = flat[0] * self.fill, flat[-1] * self.fill
         self.x, self.v, self.e = particles_in_cells(self.lo, self.spacing, np.array(self.shape, dtype=np.int64),
                                                     *flat, self.mass, zeta, seed, 0, self.ncell)
         #: the particles' radial weights (None in a planar scene)
@@ -217,17 +220,18 @@ class _Gas:
         particles in their memory order, the last cell sums and state, an
         outflow's running boundary moments, the collision maxima, the
         counters."""
-        return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells, "state": self.state,
+        return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells,
                 "outflow": self.reservoirs.running, "sigma_g_max": self.sigma_g_max,
                 "counters": (self.safeguard, self.bounces, self.collisions), "hold": self.hold}
 
     def restore(self, saved: dict) -> None:
         """Continue from :meth:`saved`."""
         self.x, self.v, self.e, self.w = saved["x"], saved["v"], saved["e"], saved.get("w")  # (none: planar)
-        self.cells, self.state, self.reservoirs.running = saved["cells"], saved["state"], saved["outflow"]
+        self.cells, self.reservoirs.running = saved["cells"], saved["outflow"]
         if not hasattr(self.cells, "count"):  # (a checkpoint written before the cells counted their particles)
             self.cells.count = np.bincount(cell_index(self.x, self.lo, self.spacing, self.cells.shape_array),
                                            minlength=self.ncell)
+        self.state = self.cells.state(self.mass, self.scene.gamma)  # (what the last step computed from them)
         self.sigma_g_max = saved["sigma_g_max"]
         self.safeguard, self.bounces, self.collisions = saved["counters"]
         self.hold = saved.get("hold", self.hold)  # (none: a checkpoint from before local redraw intervals)
@@ -275,9 +279,10 @@ class _Gas:
 
     def signal_speed(self) -> float:
         """max |U| + 3 √θ over the cells of the last sort (θ = p/ρ)."""
-        rho, u, v, p, _ = self.state
+        state = self.state
         filled = (self.cells.s0 > 0) & (self.cells.volume > 0)  # (a sliver of a cut cell may count as solid)
-        speed = np.hypot(u, v).reshape(-1)[filled] + 3.0 * np.sqrt(p / rho).reshape(-1)[filled]
+        flow = reduce(np.hypot, (state.u, state.v, state.w)[: max(2, self.scene.dim)])  # (|(u, v)| in 1D as in 2D)
+        speed = flow.reshape(-1)[filled] + 3.0 * np.sqrt(state.p / state.rho).reshape(-1)[filled]
         return float(speed.max())
 
     def step(self, t, dt, n) -> np.ndarray:
@@ -397,10 +402,10 @@ class _Gas:
         revolved side in r–z)."""
         dim = self.scene.dim
         forces = delivered * self.mass / dt
-        _, _, _, p, _ = self.state
+        p = self.state.p
         for side in range(2 * dim):
             if self.sides[side] != REFLECT:
-                area = self.scene.side_area(self.scene.sides[side]) if dim == 2 else 1.0
+                area = self.scene.side_area(self.scene.sides[side]) if dim > 1 else 1.0
                 forces[side] = float(np.nanmean(p[boundary_layer(side, dim)])) * area
         return forces
 
@@ -457,7 +462,7 @@ class _Run(RunRecord):
         mean over its shell (:func:`~partmesh.particle.dsmc.sample.probe_cells`),
         each cell's unbiased (:func:`~partmesh.particle.dsmc.sample.unbiased_pressure`)."""
         gas = self.gas
-        p = unbiased_pressure(gas.state[3].reshape(-1), gas.cells.count, self.scene.dim, gas.zeta)
+        p = unbiased_pressure(gas.state.p.reshape(-1), gas.cells.count, self.scene.dim, gas.zeta)
         return probe_pressures(p, self.read)
 
     def totals(self, gas) -> dict:
@@ -478,8 +483,7 @@ class _Run(RunRecord):
         return fields
 
     def _fields_of(self, frame: CellSums) -> dict:
-        rho, u, v, p, e = frame.state(self.gas.mass, self.scene.gamma)
-        values = {"rho": rho, "u": u, "v": v, "p": p, "e": e}
+        values = frame.state(self.gas.mass, self.scene.gamma)._asdict()
         if self.solid is not None:
             for q in values.values():
                 q[self.solid] = np.nan

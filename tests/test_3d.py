@@ -1,8 +1,8 @@
 """Three dimensions (SPEC §3.9): the schema, regridding and probe stencils
 in 3D, the fv step in a 3D box against its 1D result and against itself
 along every axis, the spherical point blast in a closed box (conservation,
-the cube's symmetry, Sedov–Taylor), and the methods that do not run 3D
-saying so in one sentence."""
+the cube's symmetry, Sedov–Taylor), dsmc in 3D boxes, a grid split across
+devices, and the methods that do not run 3D saying so in one sentence."""
 
 from __future__ import annotations
 
@@ -272,10 +272,76 @@ def test_a_grid_split_across_two_devices_gives_the_one_device_result(tmp_path):
         np.testing.assert_allclose(split[f"arr_{k}"], ds["rho"].values, rtol=1e-13, atol=0.0)
 
 
+# --- dsmc in 3D --------------------------------------------------------------------
+
+
+def test_dsmc_fills_3d_cells_with_their_states():
+    """Every particle lies in the cell that drew it (cells x fastest), and the
+    cells' particle counts and mean velocities are those asked for within
+    their sampling scatter."""
+    from partmesh.particle.dsmc.cells import cell_index
+    from partmesh.particle.dsmc.gas import particles_in_cells
+
+    shape = np.array([3, 2, 4], dtype=np.int64)
+    lo, spacing = np.array([0.0, -1.0, 2.0]), np.array([0.5, 1.0, 0.25])
+    ncell = int(np.prod(shape))
+    rho = np.linspace(1.0, 2.0, ncell)
+    u, v, w = np.full(ncell, 3.0), np.full(ncell, -2.0), np.linspace(-1.0, 1.0, ncell)
+    p = np.full(ncell, 1.0)
+    mass = float(np.prod(spacing)) / 2000.0  # 2 000 particles in a cell of density 1
+    x, vel, e = particles_in_cells(lo, spacing, shape, rho, u, v, w, p, mass, 2.0, 7, 0, 0)
+    cell = cell_index(x, lo, spacing, shape)
+    assert np.all(np.diff(cell) >= 0)  # drawn cell by cell, each inside its own
+    counts = np.bincount(cell, minlength=ncell)
+    assert np.all(np.abs(counts - 2000 * rho) <= 1.0)
+    for c in (0, 13, ncell - 1):
+        mine = vel[cell == c]
+        np.testing.assert_allclose(mine.mean(axis=0), [u[c], v[c], w[c]], atol=5 / np.sqrt(len(mine)))
+
+
+@pytest.fixture(scope="module")
+def dsmc_tubes():
+    return {axis: partmesh.run(partmesh.scene("sod_3d", axis=axis), "dsmc", dx=1 / 100, progress=False)
+            for axis in "xyz"}
+
+
+def test_dsmc_sod_3d_along_every_axis_meets_its_1d_bound_in_a_closed_box(dsmc_tubes):
+    """The 3D tube holds 16 cells across each of its 100 along: its L1 density error is below the 1D run's
+    (measured 0.028 on every axis against 0.078 in 1D at 30 particles a cell); the box is closed, so mass and
+    energy stay to round-off."""
+    exact_rho = partmesh.scene("sod_3d").exact([0.2])["rho"].values.ravel()
+    one = partmesh.run("sod", "dsmc", dx=1 / 100, progress=False)
+    l1_1d = np.abs(one["rho"].isel(time=-1).values - exact_rho).mean()
+    for axis, ds in dsmc_tubes.items():
+        l1 = np.abs(ds["rho"].isel(time=-1).values.ravel() - exact_rho).mean()
+        assert l1 < min(0.05, l1_1d), (axis, l1, l1_1d)
+        assert ds.attrs["mass_drift"] < 1e-14 and ds.attrs["energy_drift"] < 1e-13
+        along = ds["uvw"["xyz".index(axis)]].isel(time=-1).values.ravel()
+        assert np.nanmax(along) > 0.6  # the flow behind the shock runs along the tube (0.93 exactly)
+
+
+@pytest.mark.full
+def test_dsmc_sedov_3d_conserves_and_finds_the_blast():
+    """32³ cells of 30 particles (983 040): radius +8.6 % at this resolution (fv +8.3 %); 64³ (7.9 million
+    particles, 173 s) gives +3.2 %, spread 6.6 %."""
+    ds = partmesh.run("sedov_3d", "dsmc", dx=2 / 32, progress=False)
+    assert ds.attrs["mass_drift"] == 0.0 and ds.attrs["energy_drift"] < 1e-13
+    assert 0.0 < ds.attrs["shock_radius_error"] < 0.12
+
+
+def test_dsmc_refuses_a_3d_box_with_an_open_side_in_one_sentence():
+    base = partmesh.scene("sod_3d")
+    fields = {f: getattr(base, f) for f in Scene.__dataclass_fields__}
+    opened = Scene(**{**fields, "boundaries": {**base.boundaries, "x_hi": "outflow"}})
+    with pytest.raises(Unsupported, match=r"^scene sod_3d: dsmc runs 3D boxes with reflecting and periodic sides "
+                                          r"only so far \(no open side's reservoir in 3D\)\.$"):
+        partmesh.run(opened, "dsmc", dx=1 / 50, progress=False)
+
+
 # --- refusals -----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("method", ["sph", "dsmc", "wcsph", "swe", "hybrid"])
+@pytest.mark.parametrize("method", ["sph", "wcsph", "swe", "hybrid"])
 def test_methods_without_3d_refuse_a_3d_scene_in_one_sentence(method):
     with pytest.raises((Unsupported, InputError)) as error:
         partmesh.run("sedov_3d", method, progress=False)
