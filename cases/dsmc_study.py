@@ -46,6 +46,52 @@ def balloon_box(Ms=1.2, radius=0.05, side=0.5, rho0=AIR["rho0"], p0=AIR["p0"], t
     )
 
 
+def balloon_box_3d(Ms=1.2, diameter=0.075, width=1.78, height=0.46, rho0=AIR["rho0"], p0=AIR["p0"], t_end=1.6e-3,
+                   gamma=1.4):
+    """The seed's indoor balloon burst in 3D (Sharma & Long 2003, after
+    Settles' experiment): a balloon of ``diameter`` at the centre of a closed
+    box ``width`` × ``width`` × ``height``, its gas at the ambient density
+    and at the temperature behind a Mach ``Ms`` normal shock (so its
+    pressure is p0 T_s/T0, 1.128 p0 at Mach 1.2), as the seed derived its
+    state. Probes in the X–Y mid-plane at the centres of the x_hi and y_hi
+    walls and in their corner, and on the floor under the balloon (the
+    nearest wall: the shock reaches it first). The default cell of 1 cm
+    divides the box (178 × 178 × 46); ``dx = width/200`` gives dsmc the
+    seed's 200 × 200 × 52 cells. By 1.6 ms the shock has met the floor and
+    ceiling but not the side walls (about 2.1 ms): a later ``t_end``
+    brings it there."""
+    Ms = checks.in_range("Ms", Ms, 1.0, 5.0, lo_open=True)
+    width, height = checks.positive("width", width), checks.positive("height", height)
+    diameter = checks.in_range("diameter", diameter, 0.0, 0.8 * min(width, height), lo_open=True)
+    rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
+    gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
+    t_end = checks.positive("t_end", t_end)
+    rho_s, _, p_s = exact.normal_shock(Ms, rho0, p0, gamma)
+    p_balloon = p0 * (p_s / rho_s) / (p0 / rho0)  # the ambient density at the shocked gas's temperature
+    centre = (0.5 * width, 0.5 * width, 0.5 * height)
+
+    def initial(x, y, dx, z):
+        inside = (x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2 < (0.5 * diameter) ** 2
+        return rho0, 0.0, 0.0, 0.0, np.where(inside, p_balloon, p0)
+
+    domain = ((0.0, width), (0.0, width), (0.0, height))
+    times = tuple(t for t in (0.54e-3, 1e-3) if t < t_end) + (t_end,)
+    mid = centre[2]
+    return Scene(
+        name="balloon_box_3d",
+        parameters=dict(Ms=Ms, diameter=diameter, width=width, height=height, rho0=rho0, p0=p0, t_end=t_end,
+                        gamma=gamma),
+        dim=3, domain=domain, gamma=gamma, initial=initial,
+        boundaries={s: "reflect" for s in ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")},
+        output=OutputGrid(domain=domain, shape=(178, 178, 46), times=times, dt_probe=t_end / 400),
+        dx=0.01, t_end=t_end,
+        probes=(Probe("wall_x", width, centre[1], z=mid), Probe("wall_y", centre[0], width, z=mid),
+                Probe("corner", width, width, z=mid), Probe("floor", centre[0], centre[1], z=0.0)),
+        fields=("rho", "u", "v", "w", "p", "e"),
+        description=f"The seed's balloon burst (p = {p_balloon / p0:.3f} p0, Mach {Ms:g}) in its 3D box.",
+    )
+
+
 def shock_cavity(Ms=1.5, width=0.05, depth=0.05, height=0.1, length=0.3, x_cavity=0.1, rho0=AIR["rho0"],
                  p0=AIR["p0"], t_end=5e-4, gamma=1.4):
     """A planar shock of Mach ``Ms`` runs along a channel of ``height`` over a
