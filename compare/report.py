@@ -226,9 +226,9 @@ def _views(runs, reference) -> dict[str, tuple[list[xr.Dataset], xr.Dataset | No
                                          f"{'; z drawn as y' if across == 'y' else ''})"}
         return cut.rename({"z": "y"}) if across == "y" else cut
 
-    return {f"_{name.lower().replace('–', '')}": ([plane(ds, across, name) for ds in runs],
-                                                  None if reference is None else plane(reference, across, name))
-            for name, across in (("X–Y", "z"), ("X–Z", "y"))}
+    return {suffix: ([plane(ds, across, name) for ds in runs],
+                     None if reference is None else plane(reference, across, name))
+            for suffix, name, across in (("_xy", "X–Y", "z"), ("_xz", "X–Z", "y"))}
 
 
 def report(runs: list[xr.Dataset], reference: xr.Dataset | None, names: list[str], folder: str | Path,

@@ -39,7 +39,6 @@ from __future__ import annotations
 
 from functools import reduce
 
-
 import numba
 import numpy as np
 
@@ -217,7 +216,7 @@ class _Gas:
 
     def saved(self) -> dict:
         """Everything the next steps depend on, for a checkpoint: the
-        particles in their memory order, the last cell sums and state, an
+        particles in their memory order, the last cell sums (their state follows from them), an
         outflow's running boundary moments, the collision maxima, the
         counters."""
         return {"x": self.x, "v": self.v, "e": self.e, "w": self.w, "cells": self.cells,
