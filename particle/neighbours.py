@@ -140,12 +140,13 @@ def _collect_run(a, b, k, p, xi0, xi1, xi2, Hi, xs0, xs1, xs2, Hs, dim, box, hal
     return p
 
 
-@numba.njit(cache=True, inline="always")
-def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, s, collect, bk):
+@numba.njit(cache=True)
+def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, s, bk):
     """Scan the ``s`` cells around sorted particle k (support ``Hs[k]``;
-    candidates' supports ``Hcand``). collect=False: return (neighbour count,
-    candidate count); collect=True: fill the scratch list and return
-    (neighbour count, 0)."""
+    candidates' supports ``Hcand``). With an empty scratch list ``bk``: return (neighbour count,
+    candidate count); otherwise fill ``bk`` and return (neighbour count, 0). (One signature for
+    both passes: a literal flag would compile the scan twice.)"""
+    collect = bk.size > 0
     ya0, yb0, ya1, yb1 = _runs(cid3[k, 1], ncell[1], per[1], s)
     za0, zb0, za1, zb1 = _runs(cid3[k, 2], ncell[2], per[2], s)
     xa0, xb0, xa1, xb1 = _runs(cid3[k, 0], ncell[0], per[0], s)
@@ -197,12 +198,12 @@ def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, 
     Hnone = np.zeros(n)
     counts = np.zeros(n, dtype=np.int64)
     ncand = np.zeros(n, dtype=np.int64)
-    e = np.empty(0, dtype=np.int64)
+    e = np.empty(0, dtype=np.int32)
     for k in prange(n):
         if order[k] >= rows and not big[k]:
             continue
         Hcand = Hsmall if not big[k] else Hnone
-        c, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], False, e)
+        c, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], e)
         counts[order[k]] = c
         ncand[k] = m
     return counts, ncand.max()
@@ -231,12 +232,12 @@ def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, p
     Hnone = np.zeros(n)
     nchunk = (n + _CHUNK - 1) // _CHUNK
     for ch in prange(nchunk):
-        bk = np.empty(maxc, dtype=np.int32)
+        bk = np.empty(max(maxc, 1), dtype=np.int32)  # never empty: an empty list means "count"
         for k in range(ch * _CHUNK, min(n, (ch + 1) * _CHUNK)):
             if (only_large and not big[k]) or (not only_large and order[k] >= rows):
                 continue
             Hcand = Hsmall if not big[k] else Hnone
-            p, _ = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], True, bk)
+            p, _ = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], bk)
             q = offsets[order[k]]
             for t in range(p):
                 index[q + t] = order[bk[t]]
