@@ -55,6 +55,7 @@ _LAZY = {
     "ensembles": "partmesh.ensembles",
     "reporting": "partmesh.reporting",
     "sweeps": "partmesh.sweeps",
+    "warm": "partmesh.warmup:warm",
 }
 
 

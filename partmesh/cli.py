@@ -139,6 +139,11 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def cmd_warm(args) -> int:
+    pm.warm(pm.demo.plan(args.methods or pm.demo.GAS_METHODS), processes=args.processes, progress=not args.quiet)
+    return 0
+
+
 def cmd_bench(args) -> int:
     pm.bench.bench(args.output, size=args.size, quick=args.quick)
     return 0
@@ -225,6 +230,13 @@ def parser() -> argparse.ArgumentParser:
     d.add_argument("-o", "--output", default="partmesh-demo")
     d.add_argument("--quiet", action="store_true")
     d.set_defaults(func=cmd_demo)
+
+    w = sub.add_parser("warm", help="compile the methods' kernels for the demo's runs, side by side (first run only)")
+    w.add_argument("methods", nargs="*", choices=["fv", "sph", "dsmc"], metavar="METHOD",
+                   help="fv, sph, dsmc (default: all three)")
+    w.add_argument("--processes", type=int, default=None, help="at most this many at once (default: the cores)")
+    w.add_argument("--quiet", action="store_true")
+    w.set_defaults(func=cmd_warm)
 
     b = sub.add_parser("bench", help="throughput of each method (JSON)")
     b.add_argument("-o", "--output", default="bench.json")

@@ -42,6 +42,7 @@ ON_FIRST_USE = {
         "partmesh.cluster": "the checkpoint machinery and the schema (xarray), for runs on Dask",
         "partmesh.demo": "reports (matplotlib), for the demo command only",
         "partmesh.ensembles": "the registry and the checkpoint machinery (xarray), for runs on Dask",
+        "partmesh.warmup": "multiprocessing, for compiling methods side by side",
     },
     "partmesh.compare.exact": {
         "partmesh.compare.exact.kingery_bulmash": "the surface-burst fits, for the blast scenes' references",

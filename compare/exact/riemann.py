@@ -137,25 +137,56 @@ def star_state(left, right, gamma: float = 1.4) -> tuple[float, float]:
     return float(p_star), float(u_star)
 
 
-def _left_wave(state, p_star, u_star, gamma, xi):
-    """Solution left of the contact (xi <= u*), Toro §4.5: a shock or a rarefaction fan."""
+def _shock(state, p_star, gamma):
+    """Speed and density behind a left shock to p* > p (Toro §4.5)."""
     rho, u, p = state
     a = np.sqrt(gamma * p / rho)
     g1 = (gamma - 1.0) / (gamma + 1.0)
-    if p_star > p:
-        speed = u - a * np.sqrt((gamma + 1.0) / (2.0 * gamma) * p_star / p + (gamma - 1.0) / (2.0 * gamma))
-        rho_star = rho * (p_star / p + g1) / (g1 * p_star / p + 1.0)
+    speed = u - a * np.sqrt((gamma + 1.0) / (2.0 * gamma) * p_star / p + (gamma - 1.0) / (2.0 * gamma))
+    return speed, rho * (p_star / p + g1) / (g1 * p_star / p + 1.0)
+
+
+def _fan_edges(state, p_star, u_star, gamma):
+    """Head and tail speeds of a left rarefaction to p* ≤ p and the density behind it (Toro §4.5)."""
+    rho, u, p = state
+    a = np.sqrt(gamma * p / rho)
+    return u - a, u_star - a * (p_star / p) ** ((gamma - 1.0) / (2.0 * gamma)), rho * (p_star / p) ** (1.0 / gamma)
+
+
+def _fan(state, gamma, xi):
+    """(rho, u, p) inside a left rarefaction fan at xi (Toro §4.5)."""
+    rho, u, p = state
+    a = np.sqrt(gamma * p / rho)
+    base = np.clip(2.0 / (gamma + 1.0) + (gamma - 1.0) / (gamma + 1.0) / a * (u - xi), 0.0, 1.0)  # in [0, 1]
+    return (rho * base ** (2.0 / (gamma - 1.0)),
+            2.0 / (gamma + 1.0) * (a + 0.5 * (gamma - 1.0) * u + xi),
+            p * base ** (2.0 * gamma / (gamma - 1.0)))
+
+
+def _left_wave(state, p_star, u_star, gamma, xi):
+    """Solution left of the contact (xi <= u*), Toro §4.5: a shock or a rarefaction fan, at the array ``xi``."""
+    if p_star > state[2]:
+        speed, rho_star = _shock(state, p_star, gamma)
         behind = xi >= speed
-        return np.where(behind, rho_star, rho), np.where(behind, u_star, u), np.where(behind, p_star, p)
-    rho_star = rho * (p_star / p) ** (1.0 / gamma)
-    tail = u_star - a * (p_star / p) ** ((gamma - 1.0) / (2.0 * gamma))
-    base = np.clip(2.0 / (gamma + 1.0) + g1 / a * (u - xi), 0.0, 1.0)  # in [0, 1] inside the fan
-    fan = (rho * base ** (2.0 / (gamma - 1.0)),
-           2.0 / (gamma + 1.0) * (a + 0.5 * (gamma - 1.0) * u + xi),
-           p * base ** (2.0 * gamma / (gamma - 1.0)))
-    ahead, behind = xi < u - a, xi > tail
+        return tuple(np.where(behind, k_star, k) for k, k_star in zip(state, (rho_star, u_star, p_star)))
+    head, tail, rho_star = _fan_edges(state, p_star, u_star, gamma)
+    ahead, behind = xi < head, xi > tail
     return tuple(np.select([ahead, behind], [k, k_star], f)
-                 for k, k_star, f in zip((rho, u, p), (rho_star, u_star, p_star), fan))
+                 for k, k_star, f in zip(state, (rho_star, u_star, p_star), _fan(state, gamma, xi)))
+
+
+def _left_wave_at(state, p_star, u_star, gamma, xi: float):
+    """:func:`_left_wave` at one point: the same formulas, chosen by branching (no array selection: an
+    inflow face samples one point per step)."""
+    if p_star > state[2]:
+        speed, rho_star = _shock(state, p_star, gamma)
+        return (rho_star, u_star, p_star) if xi >= speed else state
+    head, tail, rho_star = _fan_edges(state, p_star, u_star, gamma)
+    if xi < head:
+        return state
+    if xi > tail:
+        return rho_star, u_star, p_star
+    return _fan(state, gamma, xi)
 
 
 def sample(left, right, gamma: float, xi) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -176,6 +207,8 @@ def sample(left, right, gamma: float, xi) -> tuple[np.ndarray, np.ndarray, np.nd
     left, right = _state("left", left), _state("right", right)
     xi = np.asarray(xi, dtype=float)
     p_star, _, s_left, s_right = _solve(left, right, gamma)
+    if xi.ndim == 0:
+        return _sample_at(left, right, gamma, float(xi), p_star, s_left, s_right)
     rho, u, p = np.zeros_like(xi), xi.copy(), np.zeros_like(xi)
     on_left, on_right = xi <= s_left, xi > s_right
     if left[0] > 0.0:
@@ -187,6 +220,18 @@ def sample(left, right, gamma: float, xi) -> tuple[np.ndarray, np.ndarray, np.nd
         for out, value in zip((rho, u, p), (r_rho, -np.asarray(r_u), r_p)):
             out[on_right] = np.broadcast_to(value, xi.shape)[on_right]
     return rho, u, p
+
+
+def _sample_at(left, right, gamma, xi: float, p_star, s_left, s_right):
+    """:func:`sample` at one point, as 0-d arrays."""
+    if xi <= s_left and left[0] > 0.0:
+        w = _left_wave_at(left, p_star, s_left, gamma, xi)
+    elif xi > s_right and right[0] > 0.0:
+        rho, u, p = _left_wave_at((right[0], -right[1], right[2]), p_star, -s_right, gamma, -xi)
+        w = rho, -u, p
+    else:
+        w = 0.0, xi, 0.0
+    return tuple(np.asarray(k, dtype=float) for k in w)
 
 
 def riemann(left, right, x, times, x0: float = 0.5, gamma: float = 1.4, case: str = "sod") -> xr.Dataset:
