@@ -15,34 +15,32 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
+from concurrent.futures import ProcessPoolExecutor
 
 from partmesh.cases.errors import InputError
+from partmesh.cases.registry import get
+from partmesh.dispatch import run
 
-#: the fraction of a run's ``t_end`` its warming run goes to: a few steps and outputs, every kernel of both
+#: the fraction of a scene's ``t_end`` a warming run goes to: a few steps and outputs, every kernel of both
 FRACTION = 0.02
 
 
 def _compiled(method: str, runs: list[tuple[str, dict]]) -> float:
-    """Seconds ``method``'s ``runs`` (scene name, settings) spent compiling, each run to :data:`FRACTION`
-    of its end (in a worker process)."""
-    from partmesh.cases.registry import get
-    from partmesh.dispatch import run
-
+    """Seconds ``method``'s ``runs`` (scene name, settings) spent compiling (in a worker process)."""
     seconds = 0.0
     for name, settings in runs:
         scene = get(name)
-        t_end = FRACTION * settings.get("t_end", scene.t_end)
-        seconds += run(scene, method, **{**settings, "t_end": t_end, "progress": False}).attrs["compile_seconds"]
+        settings = {"t_end": FRACTION * scene.t_end, **settings, "progress": False}
+        seconds += run(scene, method, **settings).attrs["compile_seconds"]
     return seconds
 
 
 def warm(plan: dict[str, list[tuple[str, dict]]], processes: int | None = None, progress: bool = True) -> dict:
-    """Compile what the runs of ``plan`` (method -> its runs, each ``(scene name, settings)``) need, each
-    method in a process of its own, at most ``processes`` (default: the cores) at a time, the methods in
+    """Compile what the runs of ``plan`` (method -> its runs, each ``(scene name, settings)``, run to
+    :data:`FRACTION` of the scene's ``t_end`` unless the settings give one) need, each method in a process of
+    its own, at most ``processes`` (default: the cores) at a time, the methods in
     the order given (put the longest first). Returns method -> the seconds its runs spent compiling, and
     ``"wall"`` -> the seconds the whole took."""
-    from concurrent.futures import ProcessPoolExecutor
-
     if processes is not None and (isinstance(processes, bool) or not isinstance(processes, int) or processes < 1):
         raise InputError(f"processes must be a whole number of at least 1 (or None: the cores); got {processes!r}.")
     processes = max(1, min(processes or os.cpu_count() or 1, len(plan)))

@@ -217,3 +217,20 @@ def test_bad_grid_raises():
         riemann(*SOD, np.linspace(0, 1, 10), [0.2, 0.1])
     with pytest.raises(ValueError, match="x must"):
         riemann(*SOD, [0.5], [0.1])
+
+
+@pytest.mark.parametrize("left,right", [TORO[k][:2] for k in sorted(TORO)] + [VACUUM_GENERATED, LEFT_VACUUM,
+                                                                             RIGHT_VACUUM])
+def test_one_point_equals_the_array_bit_for_bit(left, right):
+    """An inflow face samples one point a step, by branching instead of array selection: the same
+    formulas, so every point of every wave (ahead, fan, star, vacuum, the wave edges themselves) equals the
+    array's value exactly."""
+    p_star, u_star = star_state(left, right, GAMMA)
+    edges = [u_star, left[1] - sound(left), right[1] + sound(right), 0.0]
+    xi = np.concatenate([np.linspace(-25.0, 25.0, 501) + 0.0123, [e for e in edges if np.isfinite(e)]])
+    whole = sample(left, right, GAMMA, xi)
+    for k, point in enumerate(xi):
+        one = sample(left, right, GAMMA, point)
+        assert all(np.ndim(w) == 0 for w in one)
+        for field, value in zip(whole, one):
+            assert field[k] == value or (np.isnan(field[k]) and np.isnan(value)), (point, field[k], value)
