@@ -290,6 +290,7 @@ def _conservation(scene, dx, levels, steps):
     return np.abs(after - before) / before, np.abs(level0 - before) / before, moved
 
 
+@pytest.mark.full
 def test_a_closed_tube_keeps_mass_and_energy_through_regrids():
     """Sod's tube closed at both ends on three levels: the refined region
     follows the waves, and the composite state keeps its mass and energy to
@@ -363,6 +364,7 @@ def test_refined_wall_loads_agree_with_the_uniform_grid():
         assert abs(a - b) <= 0.01 * abs(b), name
 
 
+@pytest.mark.full
 def test_a_closed_sphere_keeps_mass_and_energy_through_regrids():
     """The 1D sphere of a surface burst closed at its outer radius: the
     refined region follows the blast, and the revolved totals are kept to

@@ -161,6 +161,7 @@ def test_agreement_is_the_relative_difference_from_the_reference_method():
     assert agreement(df[df["method"] != "fv"], ["wall_impulse_final"]).empty
 
 
+@pytest.mark.full
 def test_a_small_study_ranks_the_open_channel_last(tmp_path):
     """fv at 4 mm to 3 ms on the open channel and two arrays: the table,
     the ranking and the figures are written; both arrays lower the wall's
@@ -215,6 +216,7 @@ def test_study_command_refuses_a_spacing_for_a_method_it_does_not_run(tmp_path, 
     assert main(["study", "-m", "fv", "--parts", "weak", "-o", str(tmp_path)]) == 2
 
 
+@pytest.mark.full
 def test_a_resolution_study_gives_the_gci_and_the_error_against_the_finest_fv_run(tmp_path):
     from partmesh.blast_study import run_sensitivity
 

@@ -203,6 +203,7 @@ def test_hybrid_sedov_shock_radius_follows_sedov_taylor(sedov_hybrid):
     assert abs(peak / peak_exact - 1.0) < 0.05
 
 
+@pytest.mark.full
 def test_hybrid_sod_density_error_is_within_a_fifth_of_pure_sph_at_the_same_spacing():
     dx = 1 / 800
     errors = {}

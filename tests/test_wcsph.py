@@ -99,6 +99,7 @@ def _period(series, times):
     return float(np.mean(np.diff(crossings))) if crossings.size > 1 else float(4.0 / 3.0 * crossings[0])
 
 
+@pytest.mark.full
 def test_a_standing_wave_swings_at_the_dispersive_period(standing_wave):
     scene, ds = standing_wave
     k, d = np.pi / scene.parameters["length"], scene.depth
@@ -115,8 +116,8 @@ def test_a_standing_wave_swings_at_the_dispersive_period(standing_wave):
         assert float(np.abs(ds.eta.isel(time=k) - truth.eta.isel(time=k)).mean()) < 0.08 * a
 
 
-def test_the_standing_wave_keeps_its_volume_and_stays_in_the_tank(standing_wave):
-    _, ds = standing_wave
+def test_the_standing_wave_keeps_its_volume_and_stays_in_the_tank():
+    ds = partmesh.run(partmesh.scene("standing_wave", t_end=0.6), "wcsph", dx=0.02, progress=False)  # half a period
     # h integrates to the water's volume: 0.5 m² of a tank 1 m long (the cosine adds none), to 1e-4
     volume = ds.h.mean(dim="x") * 1.0
     np.testing.assert_allclose(volume, 0.5, rtol=1e-4)
