@@ -50,27 +50,21 @@ def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slope
     cell, also those ``due`` (ncell,) leaves as they are
     (:mod:`partmesh.particle.dsmc.intervals`; ``due`` of no rows: all
     are redrawn)."""
-    for cell in numba.prange(start.size - 1):
-        _equilibrate_cell(cell, x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due)
-
-
-@numba.njit(cache=True)
-def _equilibrate_cell(cell, x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due):
-    """:func:`equilibrate` of one cell. (A function of its own, not the body of the parallel loop: numba
-    compiles it once, in a fraction of the time the parallel lowering takes over an inlined body.)"""
-    a, b = start[cell], start[cell + 1]
-    # the cell's momentum and energy per unit particle mass
-    N, p0, p1, p2, total = record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy)
-    if N < 2 or (due.size > 0 and not due[cell]):
-        return
-    U0, U1, U2 = p0 / N, p1 / N, p2 / N
-    thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
-    # the draw c (3 normals per particle) and ε, written in place of v and e
-    state, m0, m1, m2, drawn = drawn_deviations(stream(seed, step, cell), v, e, a, b, zeta)
-    if slopes.shape[0] > 0:
-        redrawn_about_profile(x, v, e, a, b, U0, U1, U2, thermal, 1.0, zeta, slopes, cell)
-    else:
-        set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / drawn, zeta)
+    ncell = start.size - 1
+    for cell in numba.prange(ncell):
+        a, b = start[cell], start[cell + 1]
+        # the cell's momentum and energy per unit particle mass
+        N, p0, p1, p2, total = record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy)
+        if N < 2 or (due.size > 0 and not due[cell]):
+            continue
+        U0, U1, U2 = p0 / N, p1 / N, p2 / N
+        thermal = total - 0.5 * N * (U0 * U0 + U1 * U1 + U2 * U2)
+        # the draw c (3 normals per particle) and ε, written in place of v and e
+        state, m0, m1, m2, drawn = drawn_deviations(stream(seed, step, cell), v, e, a, b, zeta)
+        if slopes.shape[0] > 0:
+            redrawn_about_profile(x, v, e, a, b, U0, U1, U2, thermal, 1.0, zeta, slopes, cell)
+        else:
+            set_about(v, e, a, b, U0, U1, U2, m0, m1, m2, max(thermal, 0.0) / drawn, zeta)
 
 
 @numba.njit(cache=True, inline="always")

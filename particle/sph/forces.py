@@ -38,9 +38,7 @@ _V, _M, _U, _RHO, _P, _C, _ALPHA, _ALPHA_U, _INV_H, _GRAD, _P_TERM, _VOLUME, _FI
 @numba.njit(cache=True, fastmath=True, error_model="numpy")
 def _chunk_rates(first, last, Q, c, offsets, index, box, half, kind, n, out):
     """The pair sums of rows ``first`` to ``last`` (exclusive) added into ``out`` (n, 8): for each
-    particle a0, a1, a2, du, div, curl, lap and the largest signal speed; returns the pairs summed.
-    (A function of its own, not the body of the parallel loop: numba compiles it once, in a
-    fraction of the time the parallel lowering takes over an inlined loop body.)"""
+    particle a0, a1, a2, du, div, curl, lap and the largest signal speed; returns the pairs summed."""
     pairs = 0
     for i in range(first, last):
         a0 = 0.0
