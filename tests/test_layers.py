@@ -46,6 +46,7 @@ ON_FIRST_USE = {
     },
     "partmesh.compare.exact": {
         "partmesh.compare.exact.kingery_bulmash": "the surface-burst fits, for the blast scenes' references",
+        "partmesh.compare.exact.detonation": "SciPy (quadrature, root finding), for the detonation's Taylor wave",
         "partmesh.compare.exact.shocks": "SciPy (root finding), for the shock tube's and blast inflow's states",
         "partmesh.compare.exact.stoker_ritter": "SciPy (root finding), for the dam-break references",
         "partmesh.compare.exact.water": "SciPy (Bessel functions), for the wave references",

@@ -9,6 +9,8 @@
   planar and radial, finite depth (Whitham 1974 §13; Prins 1958)
 * :mod:`partmesh.compare.exact.stoker_ritter` — the shallow-water dam break on a wet (Stoker 1957)
   or dry (Ritter 1892) bed
+* :mod:`partmesh.compare.exact.detonation` — a planar Chapman–Jouguet detonation from a rigid wall and
+  the Taylor wave behind it, for any JWL products (Taylor 1950; Fickett & Davis 1979 §2C)
 * :mod:`partmesh.compare.exact.kingery_bulmash` — the blast parameters of a hemispherical TNT surface
   burst against scaled distance (Kingery & Bulmash 1984, Swisdak's 1994 fits): ``kingery_bulmash.blast_parameters``
 
@@ -25,6 +27,8 @@ from partmesh.compare.lazy import lazy_names
 #: their modules load at import, so that importing such a module cannot shadow its function
 _LAZY = {
     "kingery_bulmash": "partmesh.compare.exact.kingery_bulmash",
+    "TaylorWave": "partmesh.compare.exact.detonation:TaylorWave",
+    "taylor_wave": "partmesh.compare.exact.detonation:taylor_wave",
     "BLASTS": "partmesh.compare.exact.shocks:BLASTS",
     "driver_pressure": "partmesh.compare.exact.shocks:driver_pressure",
     "friedlander": "partmesh.compare.exact.shocks:friedlander",
@@ -58,6 +62,7 @@ __all__ = [
     "BLASTS",
     "CRATER_GAUGES",
     "PRINS_GAUGES",
+    "TaylorWave",
     "Crater",
     "DamBreakState",
     "Gaussian",
@@ -89,5 +94,6 @@ __all__ = [
     "standing_wave",
     "standing_wave_fields",
     "star_state",
+    "taylor_wave",
     "theta_beta_mach",
 ]
