@@ -3,10 +3,10 @@
 numba keeps what it compiles on disk (``cache=True``) and JAX keeps its compiled steps in the persistent
 compilation cache (:mod:`partmesh.gridref.jax_setup`), so a method compiles once per install and grid
 size. That first compile is long and runs on one core (sph about 50 s, dsmc 30 to 60 s with its r–z and
-3D kernels, on a 2-core machine): a study whose first runs compile method after method waits for the sum. :func:`warm` runs a
-short stretch of each method's runs in a process of its own, as many at once as there are cores; the
-runs that follow in the calling process load the compiled code from disk, and their timings hold no
-compile. Where everything is compiled already it costs each process its imports, loading the cached
+3D kernels, on a 2-core machine): a study whose first runs compile method after method waits for the
+sum. :func:`warm` runs a short stretch of each method's runs in a process of its own, as many at once as
+there are cores; the runs that follow in the calling process load the compiled code from disk, and their
+timings hold no compile. Where everything is compiled already it costs each process its imports, loading the cached
 code and a few steps (the demo's: 9-10 s on two cores).
 """
 
@@ -45,7 +45,8 @@ def warm(plan: dict[str, list[tuple[str, dict]]], processes: int | None = None, 
         raise InputError(f"processes must be a whole number of at least 1 (or None: the cores); got {processes!r}.")
     processes = max(1, min(processes or os.cpu_count() or 1, len(plan)))
     if progress:
-        print(f"compiling the kernels of {', '.join(plan)} in {processes} processes (first run only)", flush=True)
+        print(f"compiling the kernels of {', '.join(plan)} in {processes} process{'es' * (processes > 1)} "
+              "(first run only)", flush=True)
     started = time.perf_counter()
     seconds = {}
     # spawn, not fork: a forked child would inherit the caller's numba and JAX threads in an unknown state

@@ -25,6 +25,16 @@ def test_the_demo_plan_starts_the_longest_compile_first_and_holds_every_run():
     assert all(len(r) == sum(len(dx) for dx in RESOLUTIONS.values()) for r in runs.values())
 
 
+@pytest.mark.parametrize("args, message", [
+    (["sph2"], "partmesh: warm compiles fv, sph, dsmc; got 'sph2'."),
+    (["--processes", "0"], "partmesh: processes must be a whole number of at least 1 (or None: the cores); got 0."),
+])
+def test_the_command_refuses_an_unknown_method_or_no_processes_in_one_line(args, message):
+    done = subprocess.run([sys.executable, "-m", "partmesh.cli", "warm", *args], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2 and done.stderr.strip() == message, done.stderr
+
+
 WARM_THEN_RUN = """
 import json, sys
 import partmesh as pm
