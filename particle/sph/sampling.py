@@ -19,24 +19,6 @@ from partmesh.particle.cell_grid import counting_sort
 from partmesh.particle.kernels import kernel_w
 
 
-@numba.njit(cache=True)
-def _chunk_sums_at_points(first, last, points, x, values, volumes, H, kind, dim, num, den):
-    """Add the particles ``first`` to ``last`` (exclusive) to the sums ``num`` (k, n_points) and ``den``."""
-    n_points, k = points.shape[0], values.shape[0]
-    for j in range(first, last):
-        for p in range(n_points):
-            r2 = 0.0
-            for d in range(dim):
-                diff = points[p, d] - x[j, d]
-                r2 += diff * diff
-            r = math.sqrt(r2)
-            if r < H[j]:
-                w = volumes[j] * kernel_w(kind, r, H[j], dim)
-                den[p] += w
-                for f in range(k):
-                    num[f, p] += values[f, j] * w
-
-
 @numba.njit(parallel=True, cache=True)
 def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``(Σ_j f_j V_j W_pj, Σ_j V_j W_pj)`` at ``points`` (n_points, dim) for
@@ -47,17 +29,30 @@ def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     den = np.zeros((n_chunks, n_points))
     chunk = (n + n_chunks - 1) // n_chunks
     for c in numba.prange(n_chunks):
-        _chunk_sums_at_points(c * chunk, min(n, (c + 1) * chunk), points, x, values, volumes, H, kind, dim,
-                              num[c], den[c])
+        for j in range(c * chunk, min(n, (c + 1) * chunk)):
+            for p in range(n_points):
+                r2 = 0.0
+                for d in range(dim):
+                    diff = points[p, d] - x[j, d]
+                    r2 += diff * diff
+                r = math.sqrt(r2)
+                if r < H[j]:
+                    w = volumes[j] * kernel_w(kind, r, H[j], dim)
+                    den[c, p] += w
+                    for f in range(k):
+                        num[c, f, p] += values[f, j] * w
     return num.sum(axis=0), den.sum(axis=0)
 
 
+@numba.njit(cache=True)
 def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``values`` (n,) interpolated at ``points`` (n_points, dim); NaN where
     no particle's support reaches a point."""
     num, den = kernel_sums_at_points(points, x, values.reshape(1, -1), volumes, H, kind, dim, n_chunks)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(den > 0.0, num[0] / den, np.nan)
+    out = np.empty(den.size)
+    for p in range(den.size):
+        out[p] = num[0, p] / den[p] if den[p] > 0.0 else np.nan
+    return out
 
 
 @numba.njit(cache=True, inline="always")
@@ -77,44 +72,6 @@ def _rows_of(y, y0, dy, ny, periodic, length):
     return row
 
 
-@numba.njit(cache=True)
-def _row_sums(r, x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim, reach,
-              start, order, num, den):
-    """Add to row ``r`` of ``num`` (k, nx) and ``den`` (nx,) the particles of the rows within ``reach`` of it."""
-    k = values.shape[0]
-    Lx, Ly = nx * dx, ny * dy
-    yr = y0 + r * dy
-    for rr in range(r - reach, r + reach + 1):
-        if periodic_y:
-            bucket = rr % ny
-        elif rr < 0 or rr >= ny:
-            continue
-        else:
-            bucket = rr
-        for t in range(start[bucket], start[bucket + 1]):
-            j = order[t]
-            ey = yr - y[j]
-            if periodic_y:
-                ey -= Ly * math.floor(ey / Ly + 0.5)
-            if abs(ey) >= H[j]:
-                continue
-            half_chord = math.sqrt(H[j] * H[j] - ey * ey)
-            xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
-            i_lo = int(math.ceil((xj - half_chord - x0) / dx))
-            i_hi = int(math.floor((xj + half_chord - x0) / dx))
-            if not periodic_x:
-                i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
-            for i in range(i_lo, i_hi + 1):
-                ex = x0 + i * dx - xj
-                dist = math.sqrt(ex * ex + ey * ey)
-                if dist < H[j]:
-                    w = volumes[j] * kernel_w(kind, dist, H[j], dim)
-                    c = i % nx if periodic_x else i
-                    den[c] += w
-                    for f in range(k):
-                        num[f, c] += w * values[f, j]
-
-
 @numba.njit(parallel=True, cache=True)
 def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim):
     """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy)``
@@ -125,7 +82,7 @@ def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, period
     reach, row by row, so threads never share a cell and the sums do not
     depend on the thread count."""
     n, k = x.size, values.shape[0]
-    Ly = ny * dy
+    Lx, Ly = nx * dx, ny * dy
     H_max = H.max() if n else 0.0
     reach = int(math.ceil(H_max / dy)) + 1 if dim > 1 else 0
     if periodic_y:
@@ -135,17 +92,52 @@ def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, period
     num = np.zeros((k, ny, nx))
     den = np.zeros((ny, nx))
     for r in numba.prange(ny):
-        _row_sums(r, x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim,
-                  reach, start, order, num[:, r], den[r])
+        yr = y0 + r * dy
+        for rr in range(r - reach, r + reach + 1):
+            if periodic_y:
+                bucket = rr % ny
+            elif rr < 0 or rr >= ny:
+                continue
+            else:
+                bucket = rr
+            for t in range(start[bucket], start[bucket + 1]):
+                j = order[t]
+                ey = yr - y[j]
+                if periodic_y:
+                    ey -= Ly * math.floor(ey / Ly + 0.5)
+                if abs(ey) >= H[j]:
+                    continue
+                half_chord = math.sqrt(H[j] * H[j] - ey * ey)
+                xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
+                i_lo = int(math.ceil((xj - half_chord - x0) / dx))
+                i_hi = int(math.floor((xj + half_chord - x0) / dx))
+                if not periodic_x:
+                    i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
+                for i in range(i_lo, i_hi + 1):
+                    ex = x0 + i * dx - xj
+                    dist = math.sqrt(ex * ex + ey * ey)
+                    if dist < H[j]:
+                        w = volumes[j] * kernel_w(kind, dist, H[j], dim)
+                        c = i % nx if periodic_x else i
+                        den[r, c] += w
+                        for f in range(k):
+                            num[f, r, c] += w * values[f, j]
     return num, den
 
 
+@numba.njit(parallel=True, cache=True)
 def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim,
                     min_support):
     """``values`` (k, n) interpolated at the grid centres of
     :func:`kernel_sums_on_grid`: (k, ny, nx), NaN where the kernel sum
     Σ_j V_j W is zero or below ``min_support``."""
+    k = values.shape[0]
     num, den = kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y,
                                    kind, dim)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where((den > 0.0) & (den >= min_support), num / den, np.nan)
+    out = np.empty((k, ny, nx))
+    for r in numba.prange(ny):
+        for i in range(nx):
+            ok = den[r, i] > 0.0 and den[r, i] >= min_support
+            for f in range(k):
+                out[f, r, i] = num[f, r, i] / den[r, i] if ok else np.nan
+    return out
