@@ -4,7 +4,9 @@ of an axisymmetric scene (x is the radius r from the axis, y the height z).
 
 The surface burst models the charge as a Brode balloon (Brode 1959, Phys.
 Fluids 2, 217): ideal gas of γ = 1.4 at the charge's density, holding its
-detonation energy, released at t = 0. A hemisphere on a rigid ground is
+detonation energy, released at t = 0; or (``charge="jwl"``) as TNT itself,
+detonated from its centre by a programmed burn, its products following the
+JWL equation of state (:data:`partmesh.compare.materials.TNT`, SPEC §3.10). A hemisphere on a rigid ground is
 half of a sphere of twice the mass in free air, so its flow is spherical:
 ``surface_burst_1d`` runs that sphere in 1D, and ``surface_burst`` runs the
 r–z plane from the 1D solution remapped conservatively
@@ -22,8 +24,8 @@ import numpy as np
 from partmesh.cases import checks
 from partmesh.cases.ball import ball_density, shells_remapped
 from partmesh.cases.errors import InputError
-from partmesh.cases.scene import OutputGrid, Precursor, Probe, Scene
-from partmesh.compare import exact, metrics
+from partmesh.cases.scene import Detonation, OutputGrid, Precursor, Probe, Scene
+from partmesh.compare import exact, materials, metrics
 from partmesh.compare.exact.kingery_bulmash import blast_parameters
 
 #: TNT: detonation energy [J/kg] and density [kg/m³] of the Brode balloon
@@ -31,15 +33,23 @@ TNT = {"energy": 4.184e6, "density": 1600.0}
 #: sea-level air
 AIR = {"rho0": 1.225, "p0": 101325.0}
 #: the ground gauges, by scaled distance Z = R / W^(1/3) [m/kg^(1/3)]
-GAUGES = (1.0, 1.5, 2.0, 3.0, 5.0, 8.0, 12.0)
+GAUGES = (0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 8.0, 12.0)
+#: the 1D sphere's gauges: out to Z = 20 (Kingery–Bulmash's fits hold from 0.2 to 40)
+GAUGES_1D = GAUGES + (20.0,)
 #: the domain's extent, in scaled distance
 EXTENT = 16.0
+#: the 1D sphere's extent, in scaled distance: beyond its outermost gauge
+EXTENT_1D = 28.0
+#: the charges a surface burst takes: a Brode balloon, or TNT detonated with its products' JWL equation of state
+CHARGES = ("balloon", "jwl")
 #: when the 1D solution is remapped onto the r–z grid, in scaled time [s/kg^(1/3)]: the shock is at Z ≈ 0.7
 T_REMAP = 2.5e-4
 #: the cells of the 1D run the r–z grid starts from, across the extent
 REMAP_CELLS = 25600
 #: the default end time, in scaled time [s/kg^(1/3)]: the gauge Z12's positive phase has ended
 T_END = 36e-3
+#: the 1D sphere's default end time, in scaled time: the gauge Z20's positive phase has ended (56 ms)
+T_END_1D = 60e-3
 #: what :func:`gauge_metrics` measures at every gauge
 GAUGE_QUANTITIES = ("peak_overpressure", "peak_overpressure_fitted", "arrival_time", "positive_duration",
                     "positive_impulse")
@@ -100,14 +110,17 @@ def sphere_front(ds, exact_radius: float, sectors: int = 9) -> dict:
             "shock_radius_spread": (max(per_sector) - min(per_sector)) / float(np.mean(per_sector))}
 
 
-def _charge(W, rho0, p0, gamma, t_end):
-    """The checked charge, air and end time (default :data:`T_END` W^(1/3)),
-    and the charge's hemisphere radius."""
+def _charge(W, rho0, p0, gamma, t_end, charge="balloon", t_default=T_END):
+    """The checked charge, air and end time (default ``t_default`` W^(1/3)),
+    and the charge's hemisphere radius (of a balloon at TNT's density, or of
+    TNT at its unreacted density)."""
     W = checks.in_range("W", W, 1e-3, 1e6)
     rho0, p0 = checks.positive("rho0", rho0), checks.positive("p0", p0)
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
-    t_end = T_END * W ** (1.0 / 3.0) if t_end is None else checks.positive("t_end", t_end)
-    return W, rho0, p0, gamma, t_end, (3.0 * W / (2.0 * np.pi * TNT["density"])) ** (1.0 / 3.0)
+    checks.choice("charge", charge, CHARGES)
+    t_end = t_default * W ** (1.0 / 3.0) if t_end is None else checks.positive("t_end", t_end)
+    density = TNT["density"] if charge == "balloon" else materials.TNT.rho0
+    return W, rho0, p0, gamma, t_end, (3.0 * W / (2.0 * np.pi * density)) ** (1.0 / 3.0)
 
 
 def _balloon_pressure(gamma):
@@ -115,11 +128,11 @@ def _balloon_pressure(gamma):
     return (gamma - 1.0) * TNT["density"] * TNT["energy"]
 
 
-def _gauges(W, t_end):
+def _gauges(W, t_end, gauges=GAUGES):
     """The ground gauges, the output times (to ``t_end``) and the probe interval of a charge of ``W`` kg."""
     scale = W ** (1.0 / 3.0)
-    probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0, shell=True) for z in GAUGES)  # (the flow is a hemisphere's)
-    times = tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2) if t * scale < t_end) + (t_end,)
+    probes = tuple(Probe(f"Z{z:g}", z * scale, 0.0, shell=True) for z in gauges)  # (the flow is a hemisphere's)
+    times = tuple(t * scale for t in (1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 4e-2) if t * scale < t_end) + (t_end,)
     return probes, times, 5e-6 * scale
 
 
@@ -156,34 +169,47 @@ def gauge_metrics(ds, W: float, p0: float) -> dict:
     return out
 
 
-def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=1600, dx=None):
+def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=2800, dx=None,
+                     charge="balloon", extent=EXTENT_1D):
     """The surface burst of ``W`` kg TNT as the sphere it mirrors, in 1D.
 
-    A Brode balloon of 2W kg in free air (r from the centre to 16 W^(1/3) m,
-    an open far end), with the ground gauges at their distances; ``n_out``
-    output cells, ``dx`` the default cell size (the output cell when not
-    given)."""
-    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end)
-    L = EXTENT * W ** (1.0 / 3.0)
+    A charge of 2W kg in free air (r from the centre to ``extent`` W^(1/3) m,
+    an open far end), with the ground gauges Z0.5 … Z20 at their distances
+    (those inside the extent); ``charge`` a Brode balloon or TNT detonated
+    from its centre (``"jwl"``); ``n_out`` output cells, ``dx`` the default
+    cell size (the output cell when not given). Default end: Z20's positive
+    phase over (60 ms W^(1/3))."""
+    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end, charge, T_END_1D)
+    extent = checks.in_range("extent", extent, 1.0, 1e3)
+    L = extent * W ** (1.0 / 3.0)
     n_out = checks.integer("n_out", n_out, 16)
     dx = L / n_out if dx is None else checks.positive("dx", dx)
     p_c = _balloon_pressure(gamma)
 
-    def initial(x, y, cell):
-        inside = np.clip((np.minimum(x + 0.5 * cell, r_c) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3)
-                         / ((x + 0.5 * cell) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3), 0.0, 1.0)
-        return (rho0 + inside * (TNT["density"] - rho0), 0.0, 0.0, p0 + inside * (p_c - p0))
+    def inside(x, y, cell):
+        """The share of each spherical shell cell inside the charge."""
+        return np.clip((np.minimum(x + 0.5 * cell, r_c) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3)
+                       / ((x + 0.5 * cell) ** 3 - np.maximum(x - 0.5 * cell, 0.0) ** 3), 0.0, 1.0)
 
-    probes, times, dt_probe = _gauges(W, t_end)
+    def balloon(x, y, cell):
+        share = inside(x, y, cell)
+        return (rho0 + share * (TNT["density"] - rho0), 0.0, 0.0, p0 + share * (p_c - p0))
+
+    probes, times, dt_probe = _gauges(W, t_end, tuple(z for z in GAUGES_1D if z < extent))
+    jwl = charge == "jwl"
+    what = "TNT detonated from its centre, JWL products" if jwl else "Brode balloon"
     return Scene(
         name="surface_burst_1d",
-        parameters=dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, dx=dx),
-        dim=1, domain=((0.0, L),), gamma=gamma, initial=initial, geometry="spherical",
-        boundaries={"x_lo": "reflect", "x_hi": "outflow"},
+        parameters=dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, dx=dx, charge=charge,
+                        extent=extent),
+        dim=1, domain=((0.0, L),), gamma=gamma, initial=(lambda x, y, dx: (rho0, 0.0, 0.0, p0)) if jwl else balloon,
+        geometry="spherical", boundaries={"x_lo": "reflect", "x_hi": "outflow"},
         output=OutputGrid(domain=((0.0, L),), shape=(n_out,), times=times, dt_probe=dt_probe),
         dx=dx, t_end=t_end, probes=tuple(Probe(pr.name, pr.x) for pr in probes),
+        fields=("rho", "u", "p", "e", "Y") if jwl else ("rho", "u", "p", "e"),
         measure=lambda ds: gauge_metrics(ds, W, p0),
-        description=f"Brode balloon of 2W = {2 * W:g} kg TNT in free air (the sphere a surface burst of W "
+        detonation=Detonation(materials.TNT, inside, (0.0,)) if jwl else None,
+        description=f"{what} of 2W = {2 * W:g} kg TNT in free air (the sphere a surface burst of W "
                     "mirrors), 1D spherical; measured: the gauges against Kingery-Bulmash.",
     )
 
@@ -192,7 +218,8 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     """A hemispherical charge of ``W`` kg TNT on a rigid ground, in r–z.
 
     The charge is a Brode balloon, over [0, 16 W^(1/3)]² (the axis and the ground
-    reflect, the far sides are open), with ground gauges ``Z1`` … ``Z12``.
+    reflect, the far sides are open), with ground gauges ``Z1`` … ``Z12``
+    (and ``Z0.5`` when it starts from the balloon).
     ``start="remap"`` starts from the 1D spherical fv solution
     (:func:`surface_burst_1d`, 25 600 cells) remapped conserving mass and
     energy at t = 0.25 ms W^(1/3), the shock then at Z ≈ 0.7; ``"balloon"``
@@ -206,7 +233,8 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
                          f"starts from its 1D sphere, got {t_end:g} s (start='balloon' starts at 0).")
     n_out = checks.integer("n_out", n_out, 16)
     domain = ((0.0, L), (0.0, L))
-    probes, times, dt_probe = _gauges(W, t_end)
+    # (a start from the 1D sphere begins with its shock past Z = 0.7: the gauges inside it are left out)
+    probes, times, dt_probe = _gauges(W, t_end, tuple(z for z in GAUGES if start == "balloon" or z >= 1.0))
     p_c = _balloon_pressure(gamma)
     sphere_volume = (4.0 / 3.0) * np.pi * r_c ** 3
 
@@ -228,7 +256,7 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
     if start == "balloon":
         return scene
     t_remap = T_REMAP * scale
-    sphere = surface_burst_1d(W, rho0, p0, gamma, t_end=t_remap, n_out=REMAP_CELLS)
+    sphere = surface_burst_1d(W, rho0, p0, gamma, t_end=t_remap, n_out=REMAP_CELLS, extent=EXTENT)
     return dataclasses.replace(scene, precursor=Precursor(sphere, "fv", {"dx": L / REMAP_CELLS},
                                                          lambda ds: remapped(scene, ds)))
 

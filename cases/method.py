@@ -53,7 +53,8 @@ class Method:
     ensembles can average); its ``settings`` class; ``memory(scene,
     settings) -> Memory``; ``solver``, the ``"module:function"`` of its
     ``solve(scene, settings)``; and the ``geometries`` of the gas scenes it
-    runs (:data:`partmesh.cases.checks.GAS_GEOMETRIES`)."""
+    runs (:data:`partmesh.cases.checks.GAS_GEOMETRIES`); whether it runs
+    ``detonations`` (charges of detonation products, :class:`~partmesh.cases.parts.Detonation`)."""
 
     name: str
     medium: str
@@ -63,6 +64,7 @@ class Method:
     takes_seed: bool = False
     geometries: tuple[str, ...] = ("planar",)
     dims: tuple[int, ...] = (1, 2)
+    detonations: bool = False
 
     def refusal(self, scene) -> str | None:
         """Why this method cannot run ``scene`` (one sentence), or None."""
@@ -74,6 +76,9 @@ class Method:
         if scene.dim not in self.dims:
             return (f"method {self.name} runs {' and '.join(f'{d}D' for d in self.dims)} scenes, and {scene.name} "
                     f"is {scene.dim}D.")
+        if getattr(scene, "detonation", None) is not None and not self.detonations:
+            return (f"method {self.name} models an ideal gas only, and {scene.name} holds a charge of JWL detonation "
+                    "products (charge=jwl): run it with charge=balloon, or with method fv.")
         return None
 
     def checked(self, scene, given: dict) -> Settings:

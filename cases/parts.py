@@ -1,6 +1,6 @@
 """The parts a scene is made of: an imposed inflow state, a probe, the
-target wall and the output grid (:mod:`partmesh.cases.scene` puts them
-together)."""
+target wall, the output grid and a charge of detonation products
+(:mod:`partmesh.cases.scene` puts them together)."""
 
 from __future__ import annotations
 
@@ -23,6 +23,26 @@ class Inflow:
 
     state: Callable[[float], tuple[float, float, float, float]]
     description: str
+
+
+@dataclass(frozen=True)
+class Detonation:
+    """A charge of high explosive in a gas scene, detonated by a programmed
+    burn (SPEC §3.10): its ``explosive`` (a
+    :class:`~partmesh.compare.materials.JWL`: the products' equation of state,
+    the unreacted density and the detonation energy), ``fraction(x, y, dx)``
+    the share of every cell's volume it fills at the points ``(x, y)``
+    (``y`` None in 1D) of spacing ``dx``, and the ``initiation`` point where
+    the burn starts, from which it runs at the Chapman–Jouguet speed. The
+    charge is unreacted at the explosive's density, or with ``burnt`` its
+    products from the start at ``density`` (default the explosive's), in
+    either case at the air's pressure."""
+
+    explosive: object
+    fraction: Callable
+    initiation: tuple[float, ...]
+    density: float | None = None
+    burnt: bool = False
 
 
 @dataclass(frozen=True)

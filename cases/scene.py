@@ -15,12 +15,13 @@ import numpy as np
 
 from partmesh.cases.checks import check_geometry, check_scene, choice, in_range, positive
 from partmesh.cases.errors import InputError
-from partmesh.cases.parts import Inflow, OutputGrid, Probe, Wall
+from partmesh.cases.parts import Detonation, Inflow, OutputGrid, Probe, Wall
 
 SIDES = ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")
 BOUNDARY_KINDS = ("reflect", "outflow", "periodic")
 
-__all__ = ["BOUNDARY_KINDS", "Inflow", "OutputGrid", "Precursor", "Probe", "SIDES", "Scene", "Wall", "WaterScene"]
+__all__ = ["BOUNDARY_KINDS", "Detonation", "Inflow", "OutputGrid", "Precursor", "Probe", "SIDES", "Scene", "Wall",
+           "WaterScene"]
 
 
 class _Scenes:
@@ -104,6 +105,9 @@ class Scene(_Scenes):
     ``precursor``, where given, is the run that computes the scene's
     starting state (:class:`Precursor`): :func:`partmesh.dispatch.run` runs
     it first and then the scene its result makes.
+    ``detonation``, where given, is a charge of high explosive in the gas
+    (:class:`Detonation`); ``initial`` then gives the air's state, and the
+    charge fills its ``fraction`` of every cell at rest at the air's pressure.
     """
     name: str
     parameters: dict
@@ -126,6 +130,7 @@ class Scene(_Scenes):
     geometry: str = "planar"
     t_start: float = 0.0
     precursor: Precursor | None = None
+    detonation: Detonation | None = None
 
     #: what the scene holds; a method runs the scenes of its medium only
     medium = "gas"

@@ -51,7 +51,9 @@ class CJState:
 @dataclass(frozen=True)
 class JWL:
     """An explosive's detonation products: the JWL constants ``A``, ``B`` [Pa], ``R1``, ``R2``, ``omega``, the
-    unreacted density ``rho0`` [kg/m³], the detonation energy ``e0`` [J/kg], and where they come from."""
+    unreacted density ``rho0`` [kg/m³], the detonation energy ``e0`` [J/kg], the unreacted explosive's bulk
+    sound speed ``c_reactant`` [m/s] (the intercept of its shock Hugoniot U_s = c + s u_p: the stiffness of
+    the reactant a programmed burn holds until the front reaches it), and where they come from."""
 
     name: str
     A: float
@@ -61,10 +63,11 @@ class JWL:
     omega: float
     rho0: float
     e0: float
+    c_reactant: float
     source: str = ""
 
     def __post_init__(self):
-        for key in ("A", "B", "R1", "R2", "omega", "rho0", "e0"):
+        for key in ("A", "B", "R1", "R2", "omega", "rho0", "e0", "c_reactant"):
             value = getattr(self, key)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
                 raise InputError(f"JWL constant {key} of {self.name} must be a finite number > 0; got {value!r}.")
@@ -73,10 +76,12 @@ class JWL:
             raise InputError(f"the JWL constants of {self.name} give a pressure of {p:.4g} Pa at the initial state "
                              f"(rho0 = {self.rho0:g} kg/m³, e0 = {self.e0:g} J/kg); it must be > 0.")
 
-    def _terms(self, rho):
-        """The two exponential terms of p and their derivatives in V, at V = ρ₀/ρ."""
-        V = self.rho0 / np.asarray(rho, dtype=float)
-        x1, x2 = np.exp(-self.R1 * V), np.exp(-self.R2 * V)
+    def reference_terms(self, rho, xp=np):
+        """``(V, f, df/dV)``: the relative volume V = ρ₀/ρ, the pressure's two exponential terms
+        f = A(1 − ω/(R₁V)) e^{−R₁V} + B(1 − ω/(R₂V)) e^{−R₂V} (p = f + ωρe) and their derivative in V;
+        ``xp`` the array namespace (NumPy, or JAX's inside a compiled solver)."""
+        V = self.rho0 / xp.asarray(rho, dtype=float)
+        x1, x2 = xp.exp(-self.R1 * V), xp.exp(-self.R2 * V)
         w = self.omega
         terms = self.A * (1.0 - w / (self.R1 * V)) * x1 + self.B * (1.0 - w / (self.R2 * V)) * x2
         slopes = (self.A * x1 * (w / (self.R1 * V * V) + w / V - self.R1)
@@ -85,13 +90,13 @@ class JWL:
 
     def pressure(self, rho, e):
         """p(ρ, e) [Pa] (arrays broadcast)."""
-        _, terms, _ = self._terms(rho)
+        _, terms, _ = self.reference_terms(rho)
         return terms + self.omega * np.asarray(rho, dtype=float) * np.asarray(e, dtype=float)
 
     def sound_speed(self, rho, e):
         """c = √((∂p/∂ρ)_e + p ω/ρ) [m/s]; NaN where c² ≤ 0."""
         rho = np.asarray(rho, dtype=float)
-        V, terms, slopes = self._terms(rho)
+        V, terms, slopes = self.reference_terms(rho)
         p = terms + self.omega * rho * np.asarray(e, dtype=float)
         c2 = -slopes * V / rho + self.omega * np.asarray(e, dtype=float) + self.omega * p / rho
         return np.sqrt(np.where(c2 > 0.0, c2, np.nan))
@@ -116,7 +121,7 @@ class JWL:
         """p [Pa] on the products' Hugoniot from the unreacted state (p₀ ≈ 0, energy e₀) at the relative
         volumes ``V``: p = (Σ terms + ω ρ₀ e₀/V) / (1 − ω (1 − V)/(2V))."""
         V = np.asarray(V, dtype=float)
-        _, terms, _ = self._terms(self.rho0 / V)
+        _, terms, _ = self.reference_terms(self.rho0 / V)
         return (terms + self.omega * self.rho0 * self.e0 / V) / (1.0 - self.omega * (1.0 - V) / (2.0 * V))
 
     def cj_state(self) -> CJState:
@@ -134,6 +139,10 @@ class JWL:
 
 
 #: TNT (Dobratz & Crawford 1985, LLNL Explosives Handbook UCRL-52997 Change 2, Table 8-5): ρ₀ 1.630 g/cm³,
-#: D 0.693 cm/µs, p_CJ 0.210 Mbar, A 3.712 Mbar, B 0.03231 Mbar, R₁ 4.15, R₂ 0.95, ω 0.30, E₀ 0.070 Mbar
+#: D 0.693 cm/µs, p_CJ 0.210 Mbar, A 3.712 Mbar, B 0.03231 Mbar, R₁ 4.15, R₂ 0.95, ω 0.30, E₀ 0.070 Mbar;
+#: the unreacted bulk sound speed 2.39 km/s of cast TNT's Hugoniot U_s = 2.39 + 2.05 u_p km/s (Marsh 1980,
+#: LASL Shock Hugoniot Data, ρ₀ 1.614 g/cm³)
 TNT = JWL("TNT", A=371.2e9, B=3.231e9, R1=4.15, R2=0.95, omega=0.30, rho0=1630.0, e0=7.0e9 / 1630.0,
-          source="Dobratz & Crawford 1985, LLNL Explosives Handbook (UCRL-52997 Change 2), Table 8-5")
+          c_reactant=2390.0,
+          source="Dobratz & Crawford 1985, LLNL Explosives Handbook (UCRL-52997 Change 2), Table 8-5; "
+                 "reactant: Marsh 1980, LASL Shock Hugoniot Data")

@@ -228,7 +228,7 @@ def test_every_block_at_the_finest_level_steps_as_the_uniform_grid_in_more_scene
 def test_every_block_at_the_finest_level_steps_as_the_uniform_grid_of_a_sphere():
     """A 1D sphere (k = 2) on three levels: face areas, volumes and the hoop
     term read per block at its global radius."""
-    assert _forced_against_uniform(get("surface_burst_1d"), 0.04, 3, 6) <= 1e-12
+    assert _forced_against_uniform(get("surface_burst_1d", extent=16.0), 0.04, 3, 6) <= 1e-12
 
 
 @pytest.mark.full
@@ -370,7 +370,7 @@ def test_a_closed_sphere_keeps_mass_and_energy_through_regrids():
     refined region follows the blast, and the revolved totals are kept to
     round-off through the volume-weighted transfers and the refluxing
     weighted by face areas."""
-    drift, drift0, moved = _conservation(_closed(get("surface_burst_1d")), 0.04, 3, 30)
+    drift, drift0, moved = _conservation(_closed(get("surface_burst_1d", extent=16.0)), 0.04, 3, 30)
     assert moved > 0
     assert np.all(drift < 1e-13) and np.all(drift0 < 1e-13)
 

@@ -12,7 +12,7 @@ from partmesh.compare.materials import JWL, TNT
 def test_an_ideal_gas_detonation_is_the_closed_form(gamma):
     """Products of γ with energy e₀: D² = 2(γ² − 1) e₀ (the strong-detonation CJ speed), and behind it
     u = 2(ξ − D/2)/(γ + 1), c = D/2 + (γ − 1) u/2, at rest for ξ ≤ D/2."""
-    gas = JWL("ideal", A=1e-300, B=1e-300, R1=4.15, R2=0.95, omega=gamma - 1.0, rho0=1.0, e0=4e6)
+    gas = JWL("ideal", A=1e-300, B=1e-300, R1=4.15, R2=0.95, omega=gamma - 1.0, rho0=1.0, e0=4e6, c_reactant=1.0)
     wave = taylor_wave(gas)
     D = np.sqrt(2.0 * (gamma**2 - 1.0) * gas.e0)
     assert wave.D == pytest.approx(D, rel=1e-9)

@@ -221,10 +221,11 @@ def test_bad_grid_raises():
 
 @pytest.mark.parametrize("left,right", [TORO[k][:2] for k in sorted(TORO)] + [VACUUM_GENERATED, LEFT_VACUUM,
                                                                              RIGHT_VACUUM])
-def test_one_point_equals_the_array_bit_for_bit(left, right):
+def test_one_point_equals_the_array_to_rounding(left, right):
     """An inflow face samples one point a step, by branching instead of array selection: the same
     formulas, so every point of every wave (ahead, fan, star, vacuum, the wave edges themselves) equals the
-    array's value exactly."""
+    array's value to rounding (NumPy's vectorised powers and exponentials may differ from its scalar ones in
+    the last bit, depending on the processor's instructions; any branch taken wrongly would differ at once)."""
     p_star, u_star = star_state(left, right, GAMMA)
     edges = [u_star, left[1] - sound(left), right[1] + sound(right), 0.0]
     xi = np.concatenate([np.linspace(-25.0, 25.0, 501) + 0.0123, [e for e in edges if np.isfinite(e)]])
@@ -233,4 +234,4 @@ def test_one_point_equals_the_array_bit_for_bit(left, right):
         one = sample(left, right, GAMMA, point)
         assert all(np.ndim(w) == 0 for w in one)
         for field, value in zip(whole, one):
-            assert field[k] == value or (np.isnan(field[k]) and np.isnan(value)), (point, field[k], value)
+            np.testing.assert_allclose(value, field[k], rtol=4e-16, atol=0.0, err_msg=f"ξ = {point}")

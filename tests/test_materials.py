@@ -44,7 +44,7 @@ def test_the_sound_speed_is_the_slope_of_the_isentrope():
 
 
 def test_without_its_exponential_terms_the_products_are_an_ideal_gas_of_gamma_one_plus_omega():
-    gas = JWL("weak", A=1e-300, B=1e-300, R1=4.15, R2=0.95, omega=0.4, rho0=1.0, e0=2.5e5)
+    gas = JWL("weak", A=1e-300, B=1e-300, R1=4.15, R2=0.95, omega=0.4, rho0=1.0, e0=2.5e5, c_reactant=1.0)
     rho, e = np.array([0.1, 1.0, 3.0]), np.array([1e5, 2.5e5, 7e5])
     p = gas.pressure(rho, e)
     np.testing.assert_allclose(p, 0.4 * rho * e, rtol=1e-14)
@@ -80,6 +80,6 @@ def test_the_cj_state_is_sonic_on_the_hugoniot_and_the_rayleigh_line():
                                         r"\(rho0 = 1630 kg/m³, e0 = 1 J/kg\); it must be > 0\.$"),
 ])
 def test_constants_that_cannot_describe_products_are_refused_in_one_sentence(changes, message):
-    constants = {k: getattr(TNT, k) for k in ("A", "B", "R1", "R2", "omega", "rho0", "e0")}
+    constants = {k: getattr(TNT, k) for k in ("A", "B", "R1", "R2", "omega", "rho0", "e0", "c_reactant")}
     with pytest.raises(InputError, match=message):
         JWL("TNT", **{**constants, **changes})

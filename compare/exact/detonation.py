@@ -19,8 +19,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import xarray as xr
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
+
+from partmesh.compare.exact._inputs import axis, output_times
+from partmesh.compare.schema import result
 
 #: the wave is followed down to this fraction of the CJ density (the rest state lies well above it)
 LOWEST_DENSITY = 0.2
@@ -83,3 +87,29 @@ def taylor_wave(material) -> TaylorWave:
     return TaylorWave(material=material, D=cj.D, rest=float(material.sound_speed(rho_rest, e_rest)),
                       rho_rest=rho_rest, p_rest=float(material.pressure(rho_rest, e_rest)), _C=C,
                       _invariant=invariant, _cj_rho=cj.rho)
+
+
+def planar_detonation(material, x, times, length: float, p_ahead: float = 0.0,
+                      case: str = "detonation_1d") -> xr.Dataset:
+    """The detonation of a slab ``0 ≤ x ≤ length`` of ``material`` from the rigid wall x = 0, as a result
+    Dataset on the points ``x`` at ``times``, up to the time the front reaches the slab's far side: the
+    Taylor wave (:func:`taylor_wave`) behind the front, the unreacted explosive at rest (density ρ₀, pressure
+    ``p_ahead``, energy e₀) ahead of it; NaN beyond the slab, where the air's state is not part of this
+    solution. Fields rho, u, p, e."""
+    wave = taylor_wave(material)
+    x = axis("x", x)
+    times = output_times(times)
+    if times[-1] * wave.D > length:
+        raise ValueError(f"the front reaches the slab's far side at t = {length / wave.D:.4g} s; the latest time "
+                         f"asked for is {times[-1]:.4g} s.")
+    rows = []
+    for t in times:
+        ahead = x > wave.D * t
+        xi = np.where(ahead | (t == 0.0), 0.0, x / max(t, 1e-300))
+        rho, u, p, e = wave.at(xi)
+        state = [np.where(ahead, a, b) for a, b in zip((material.rho0, 0.0, p_ahead, material.e0), (rho, u, p, e))]
+        rows.append([np.where(x > length, np.nan, f) for f in state])
+    rho, u, p, e = (np.stack(field) for field in zip(*rows))
+    return result(case=case, method="exact", scheme="CJ detonation from a rigid wall and its Taylor wave",
+                  x=x, times=times, dx=float(np.mean(np.diff(x))), fields={"rho": rho, "u": u, "p": p, "e": e},
+                  parameters={"material": material.name, "length": float(length), "D": wave.D})

@@ -43,6 +43,13 @@ class FVSettings(Settings):
 
     def check_together(self, scene) -> None:
         super().check_together(scene)
+        if scene.detonation is not None:
+            if self.riemann != "hllc":
+                raise InputError(f"{scene.name} holds detonation products, which fv fluxes with riemann = hllc only "
+                                 f"(it advects their volume fraction), got {self.riemann}.")
+            if self.levels > 1 or scene.obstacles or scene.dim == 3:
+                raise InputError(f"fv runs detonation products on a uniform 1D or 2D grid without bodies for now, and "
+                                 f"{scene.name} asks for {'levels > 1' if self.levels > 1 else 'bodies or 3D'}.")
         if self.levels == 1:
             return
         if scene.dim == 3:
@@ -64,7 +71,8 @@ def memory(scene, settings: FVSettings) -> Memory:
     if settings.levels > 1:
         return Memory(elements_in(scene.domain, settings.dx), refined_cell_bytes(scene.dim + 2, scene.dim), "cells",
                       "dx or levels")
-    return Memory(elements_in(scene.domain, settings.dx), grid_cell_bytes(scene.dim + 2, scene), "cells")
+    variables = scene.dim + 2 + (3 if scene.detonation is not None else 0)  # (the mixture's three scalars)
+    return Memory(elements_in(scene.domain, settings.dx), grid_cell_bytes(variables, scene), "cells")
 
 
 def refined_cell_bytes(variables: int, dim: int) -> float:
@@ -78,4 +86,4 @@ def refined_cell_bytes(variables: int, dim: int) -> float:
 
 
 METHOD = Method("fv", "gas", FVSettings, memory, "partmesh.gridref.euler.solve:solve",
-                geometries=("planar", "axisymmetric", "spherical"), dims=(1, 2, 3))
+                geometries=("planar", "axisymmetric", "spherical"), dims=(1, 2, 3), detonations=True)

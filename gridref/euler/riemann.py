@@ -3,7 +3,10 @@ primitive states on its left (``WL``) and right (``WR``), both given in the
 face's normal frame ``(rho, u_n, u_t..., p)`` (see ``state.rotated``).
 
 Every solver has the signature ``flux(WL, WR, gamma) -> F`` (a tuple in the
-same frame), so they are interchangeable (``RIEMANN_SOLVERS``).
+same frame), so they are interchangeable (``RIEMANN_SOLVERS``). HLLC also
+takes detonation products and air (``gas`` a
+:class:`~partmesh.gridref.euler.mixture.Mixture`, :mod:`partmesh.gridref.euler.state`),
+and then returns one more flux: the volume flux that advects the volume fraction.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ import math
 import jax.numpy as jnp
 from jax.scipy.special import erf
 
-from partmesh.gridref.euler.state import conservative, normal_flux
+from partmesh.gridref.euler.state import conservative, normal_flux, parts, scalar_count, sound_speed
 
 
 def einfeldt_speeds(WL, WR, gamma):
@@ -33,26 +36,44 @@ def einfeldt_speeds(WL, WR, gamma):
     return (jnp.minimum(WL[1] - jnp.sqrt(cL2), vel[0] - c), jnp.maximum(WR[1] + jnp.sqrt(cR2), vel[0] + c))
 
 
-def hllc(WL, WR, gamma):
+def davis_speeds(WL, WR, gas):
+    """Signal speeds ``S_L = min(u_L − c_L, u_R − c_R)``, ``S_R = max(u_L + c_L, u_R + c_R)``
+    (Davis 1988; Toro 2009 eq. 10.48): HLLC's for a mixture, whose Roe average has no closed form."""
+    cL, cR = sound_speed(WL, gas), sound_speed(WR, gas)
+    return jnp.minimum(WL[1] - cL, WR[1] - cR), jnp.maximum(WL[1] + cL, WR[1] + cR)
+
+
+def hllc(WL, WR, gas):
     """HLLC flux (Toro, Spruce & Speares 1994; Toro 2009 §10.4):
     ``S* = [p_R − p_L + ρ_L u_L(S_L − u_L) − ρ_R u_R(S_R − u_R)] /
     [ρ_L(S_L − u_L) − ρ_R(S_R − u_R)]``, ``F = F_K + S_K (U*_K − U_K)`` on
     the side ``K`` of the contact that holds the face, with the outer speed
-    clipped at zero so the supersonic cases reduce to ``F_L``/``F_R``."""
-    SL, SR = einfeldt_speeds(WL, WR, gamma)
+    clipped at zero so the supersonic cases reduce to ``F_L``/``F_R``.
+
+    A mixture's scalars q (per volume) have the star states ``q χ_K``,
+    ``χ_K = (S_K − u_K)/(S_K − S*)``, and one more flux is returned, the
+    volume flux ``u_K + S_K (χ_K − 1)`` whose divergence the volume fraction's
+    non-conservative term takes (Johnsen & Colonius 2006, J. Comput. Phys.
+    219, 715, eq. 30): a contact at uniform pressure and velocity stays so."""
+    SL, SR = einfeldt_speeds(WL, WR, gas) if not scalar_count(gas) else davis_speeds(WL, WR, gas)
     mL, mR = WL[0] * (SL - WL[1]), WR[0] * (SR - WR[1])
     S_star = (WR[-1] - WL[-1] + WL[1] * mL - WR[1] * mR) / (mL - mR)
     left = S_star >= 0.0
     W = tuple(jnp.where(left, a, b) for a, b in zip(WL, WR))
     SK = jnp.where(left, SL, SR)
     S = jnp.where(left, jnp.minimum(SL, 0.0), jnp.maximum(SR, 0.0))
-    rho, un, p = W[0], W[1], W[-1]
-    U = conservative(W, gamma)
-    F = normal_flux(W, gamma)
+    rho, vel, scalars, p = parts(W, gas)
+    un = vel[0]
+    U = conservative(W, gas)
+    F = normal_flux(W, gas)
     rho_star = rho * (SK - un) / (SK - S_star)
     E_star = rho_star * (U[-1] / rho + (S_star - un) * (S_star + p / (rho * (SK - un))))
-    U_star = (rho_star, rho_star * S_star, *(rho_star * c for c in W[2:-1]), E_star)
-    return tuple(f + S * (us - u) for f, us, u in zip(F, U_star, U))
+    U_star = (rho_star, rho_star * S_star, *(rho_star * c for c in vel[1:]),
+              *(q * (SK - un) / (SK - S_star) for q in scalars), E_star)
+    flux = tuple(f + S * (us - u) for f, us, u in zip(F, U_star, U))
+    if not scalar_count(gas):
+        return flux
+    return (*flux, un + S * ((SK - un) / (SK - S_star) - 1.0))
 
 
 def hll(WL, WR, gamma):

@@ -13,7 +13,8 @@ from partmesh.cases.errors import InputError
 from partmesh.cases.scene import Inflow
 from partmesh.gridref.euler.immersed import immersed_boundary
 from partmesh.gridref.euler.method import boundary_kinds
-from partmesh.gridref.euler.state import conservative, primitive
+from partmesh.gridref.euler.mixture import Mixture, lighting_times
+from partmesh.gridref.euler.state import conservative, internal_energy, parts, primitive, scalar_count
 from partmesh.gridref.euler.step import Scheme
 from partmesh.gridref.grid import cell_centres, mesh
 from partmesh.gridref.revolution import GEOMETRIES
@@ -26,8 +27,9 @@ def _primitive_state(scene, rho, u, v, p):
 
 def inflow_states(scene, t):
     """Primitive inflow state of every side at the traced time ``t`` (zeros
-    elsewhere), for the compiled loop."""
-    rows = []
+    elsewhere), for the compiled loop; beside a charge, the inflow is air
+    (its mixture scalars zero)."""
+    rows, scalars = [], (0.0,) * scalar_count(gas_of(scene))
     for side in scene.sides:
         bc = scene.boundaries[side]
         if isinstance(bc, Inflow):
@@ -37,23 +39,54 @@ def inflow_states(scene, t):
                 raise InputError(f"the inflow state of side {side} of scene {scene.name} cannot be evaluated inside "
                                  "the compiled time loop: write it with the array namespace it is given "
                                  f"(state(t, xp)) ({type(error).__name__}).") from None
+            state = (*state[:-1], *scalars, state[-1])
             rows.append(jnp.stack([jnp.asarray(a, dtype=float) for a in state]))
         else:
-            rows.append(jnp.zeros(scene.dim + 2))
+            rows.append(jnp.zeros(scene.dim + 2 + len(scalars)))
     return jnp.stack(rows)
 
 
 def initial_state(scene, grid, fluid=None):
     """The scene's initial state on ``grid`` as conservative variables
     (checked: positive density and pressure in the ``fluid`` cells); a 3D
-    scene's ``initial(x, y, dx, z)`` gives ``(rho, u, v, w, p)``."""
+    scene's ``initial(x, y, dx, z)`` gives ``(rho, u, v, w, p)``. A scene's
+    charge (:class:`~partmesh.cases.parts.Detonation`) fills its fraction
+    α of every cell, unburnt, at the air's velocity and pressure."""
     points = mesh(grid)
     dx = float(grid.step[0])
     W = scene.initial(*points[:2], dx, *points[2:])
     W = tuple(np.broadcast_to(np.asarray(a, float), points[0].shape) for a in W)
     check_initial_state(scene, W[0], W[-1], *points, fluid=fluid)
-    return conservative(tuple(jnp.asarray(a) for a in (W if scene.dim == 3 else _primitive_state(scene, *W))),
-                        scene.gamma)
+    W = W if scene.dim == 3 else _primitive_state(scene, *W)
+    charge = scene.detonation
+    if charge is not None:
+        alpha = np.broadcast_to(np.asarray(charge.fraction(*points[:2], dx), float), points[0].shape)
+        rho_y = alpha * (charge.explosive.rho0 if charge.density is None else charge.density)
+        W = (rho_y + (1.0 - alpha) * W[0], *W[1:-1], rho_y, rho_y if charge.burnt else np.zeros_like(alpha), alpha,
+             W[-1])
+    return conservative(tuple(jnp.asarray(a) for a in W), gas_of(scene))
+
+
+def gas_of(scene):
+    """What the fv state conversions take for ``scene`` (:mod:`partmesh.gridref.euler.state`): its γ, or, with
+    a charge, the :class:`~partmesh.gridref.euler.mixture.Mixture` of its products and air."""
+    charge = scene.detonation
+    if charge is None:
+        return scene.gamma
+    return Mixture(charge.explosive, scene.gamma, charge.explosive.cj_state().D)
+
+
+def lighting_for(scene, grid):
+    """The programmed burn's lighting time of every cell of ``grid`` (:func:`~partmesh.gridref.euler.mixture.
+    lighting_times`), or None without a charge to burn."""
+    charge = scene.detonation
+    if charge is None or charge.burnt:
+        return None
+    points = mesh(grid)
+    fraction = np.broadcast_to(np.asarray(charge.fraction(*points[:2], float(grid.step[0])), float),
+                               points[0].shape)
+    coordinates = [points[0]] if scene.dim == 1 else list(points)
+    return lighting_times(coordinates, fraction, charge.initiation, gas_of(scene).burn_speed)
 
 
 def immersed_for(scene, grid):
@@ -68,12 +101,13 @@ def immersed_for(scene, grid):
 def scheme_for(scene, grid, cfl, limiter, riemann) -> Scheme:
     """The MUSCL–Hancock scheme of ``scene`` on ``grid`` (its boundary kinds per side)."""
     return Scheme(gamma=scene.gamma, dx=tuple(grid.step), kinds=boundary_kinds(scene), limiter=limiter, riemann=riemann,
-                  cfl=cfl, radial=GEOMETRIES[scene.geometry])
+                  cfl=cfl, radial=GEOMETRIES[scene.geometry],
+                  mixture=None if scene.detonation is None else gas_of(scene))
 
 
-def failure_sentence(U, gamma, grid, t, n_steps, dt, fluid=None):
+def failure_sentence(U, gas, grid, t, n_steps, dt, fluid=None):
     """One sentence: when, where and what went wrong."""
-    W = [np.asarray(a) for a in primitive(U, gamma)]
+    W = [np.asarray(a) for a in primitive(U, gas)]
     fluid = np.ones(W[0].shape, bool) if fluid is None else fluid
     for k, name in ((0, "density"), (-1, "pressure")):
         bad = fluid & ~(W[k] > 0)
@@ -86,12 +120,16 @@ def failure_sentence(U, gamma, grid, t, n_steps, dt, fluid=None):
     return f"fv time step collapsed to {dt:.3g} s at t = {t:.6g} s (step {n_steps})."
 
 
-def named_fields(W, gamma, names, solid=None) -> dict:
-    """The schema's fields ``names`` (of rho, u, v, w, p, e) from the primitive
-    state ``W`` as numpy arrays, NaN in the ``solid`` cells."""
-    W = [np.asarray(a) for a in W]
-    rho, p = W[0], W[-1]
-    values = {"rho": rho, "p": p, "e": p / ((gamma - 1.0) * rho), **dict(zip("uvw", W[1:-1]))}
+def named_fields(W, gas, names, solid=None) -> dict:
+    """The schema's fields ``names`` (of rho, u, v, w, p, e; Y, the products' mass
+    fraction, of a mixture) from the primitive state ``W`` (of ``gas``: γ or a
+    mixture) as numpy arrays, NaN in the ``solid`` cells."""
+    rho, vel, scalars, p = parts([np.asarray(a) for a in W], gas)
+    e = (p / ((gas - 1.0) * rho) if not scalar_count(gas) else
+         np.asarray(internal_energy(rho, scalars, p, gas)) / rho)
+    values = {"rho": rho, "p": p, "e": e, **dict(zip("uvw", vel))}
+    if scalar_count(gas):
+        values["Y"] = np.clip(scalars[0] / rho, 0.0, 1.0)
     out = {}
     for name in names:
         f = np.array(values[name])

@@ -15,8 +15,8 @@ from partmesh.cases.scene import Inflow
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.method import FVSettings
 from partmesh.gridref.euler.refined import solve_refined
-from partmesh.gridref.euler.setup import (failure_sentence, immersed_for, inflow_states, initial_state, named_fields,
-                                          scheme_for)
+from partmesh.gridref.euler.setup import (failure_sentence, gas_of, immersed_for, inflow_states, initial_state,
+                                          lighting_for, named_fields, scheme_for)
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.step import FLOOR, Stepper
 from partmesh.gridref.grid import bilinear_stencil, cell_centres, solver_grid
@@ -40,13 +40,13 @@ def solve(scene, settings: FVSettings):
     if settings.levels > 1:
         return solve_refined(scene, settings)
     configure_jax()
-    dx, gamma, cfl = settings.dx, scene.gamma, settings.cfl
+    dx, gas, cfl = settings.dx, gas_of(scene), settings.cfl
     grid = solver_grid(scene.domain, dx)
     ib = immersed_for(scene, grid)
     U = sharded(initial_state(scene, grid, None if ib is None else ib.fluid))
     scheme = scheme_for(scene, grid, cfl, settings.limiter, settings.riemann)
     probe_idx, probe_w = bilinear_stencil(grid, [pr.at(scene.dim) for pr in scene.probes] or [(0.0,) * scene.dim])
-    probe_pressure = _probe_sampler(probe_idx, probe_w, gamma)
+    probe_pressure = _probe_sampler(probe_idx, probe_w, gas)
     stepper = _stepper_for(scene, scheme, U, ib, probe_pressure, (probe_idx.tobytes(), probe_w.tobytes()),
                            len(probe_w))
     with compiling("fv", settings.progress, GRID_SIZE) as compiled:
@@ -67,7 +67,7 @@ def solve(scene, settings: FVSettings):
         if failed:  # the state the failed step of dt made
             (U, _), _, _, _ = stepper.one_step(state, t, dt)
             t = t + dt
-        return failure_sentence(U, gamma, grid, t, step, dt, None if ib is None else ib.fluid)
+        return failure_sentence(U, gas, grid, t, step, dt, None if ib is None else ib.fluid)
 
     def saved_state(state, t, dt_cfl):
         return {"state": jax.tree_util.tree_map(np.asarray, state), "t": t, "dt_cfl": dt_cfl}
@@ -75,10 +75,10 @@ def solve(scene, settings: FVSettings):
     return march(run, Start(state, t, dt_cfl), Stepping(stepper.stretch, saved_state, diagnose), ckpt, settings)
 
 
-def _probe_sampler(probe_idx, probe_w, gamma):
+def _probe_sampler(probe_idx, probe_w, gas):
     """The pressure at the probes: bilinear in the cells of ``probe_idx``."""
     def probe_pressure(U):
-        p = primitive(tuple(a.ravel()[probe_idx] for a in U), gamma)[-1]
+        p = primitive(tuple(a.ravel()[probe_idx] for a in U), gas)[-1]
         return jnp.sum(p * probe_w, axis=-1)
     return probe_pressure
 
@@ -99,9 +99,10 @@ def _stepper_for(scene, scheme, U, immersed, probes, stencil, n_probes) -> Stepp
     about 0.8 s for ``sod``, whatever the persistent compilation cache
     holds). A kept stepper holds neither the scene nor its state."""
     inflow = any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
-    if immersed is not None or inflow:
+    if immersed is not None or inflow or scene.detonation is not None:
         return Stepper(scheme, immersed=immersed, solid_state=U, probe_sampler=probes, n_probes=n_probes,
-                       inflow=lambda t: inflow_states(scene, t))
+                       inflow=lambda t: inflow_states(scene, t), lighting=lighting_for(scene, solver_grid(
+                           scene.domain, scheme.dx[0])))
     key = (scheme, U[0].shape, stencil)
     if key not in _STEPPERS:
         if len(_STEPPERS) >= _KEPT:
@@ -117,6 +118,8 @@ class _Run(RunRecord):
     def __init__(self, scene, grid, immersed, settings, compile_seconds, history, devices=1):
         super().__init__(scene, "fv", settings, compile_seconds, history)
         self.grid = grid
+        #: what the state conversions take: γ, or the mixture of a charge's products and air
+        self.gas = gas_of(scene)
         #: the devices the grid is split across (:mod:`partmesh.gridref.sharding`)
         self.devices = devices
         #: cells the vacuum floors changed, and the mass and energy they added, up to the latest frame
@@ -127,7 +130,7 @@ class _Run(RunRecord):
     def fields(self, state):
         U, floors = state
         self.floors = np.asarray(floors)
-        return named_fields(primitive(U, self.scene.gamma), self.scene.gamma, self.scene.fields, self.solid)
+        return named_fields(primitive(U, self.gas), self.gas, self.scene.fields, self.solid)
 
     def totals(self, state) -> dict:
         """Mass and energy in the gas (the open part of every cell; of

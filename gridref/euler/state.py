@@ -1,7 +1,12 @@
-"""Ideal-gas state conversions. A state is a tuple of arrays, one per
+"""State conversions. A state is a tuple of arrays, one per
 variable, laid out ``([y,] x)``: primitive ``W = (rho, u[, v], p)``,
 conservative ``U = (rho, rho u[, rho v], E)`` with
-``E = p/(gamma-1) + rho |u|^2 / 2`` (Toro 2009, §3.1).
+``E = p/(gamma-1) + rho |u|^2 / 2`` (Toro 2009, §3.1) for an ideal gas of
+``gas = gamma``. For detonation products and air (``gas`` a
+:class:`~partmesh.gridref.euler.mixture.Mixture`) the cell's scalars follow
+the velocities in both, ``W = (rho, u[, v], rhoY, rhoYλ, α, p)`` and
+``U = (rho, rho u[, rho v], rhoY, rhoYλ, α, E)``, and the mixture's
+equation of state relates ``E − rho |u|²/2`` to ``p``.
 
 Tuples rather than one stacked array let XLA fuse each kernel into a few
 loops without materialising slices of a stacked array.
@@ -16,23 +21,55 @@ def _squared_speed(vel):
     return sum(c * c for c in vel)
 
 
-def conservative(W, gamma):
+def scalar_count(gas) -> int:
+    """How many scalars a cell of ``gas`` carries after its velocities (0 for an ideal gas)."""
+    return getattr(gas, "scalars", 0)
+
+
+def parts(W, gas):
+    """``(rho, velocities, scalars, last)`` of a state tuple ``W`` or ``U`` of ``gas``."""
+    n = len(W) - 1 - scalar_count(gas)
+    return W[0], W[1:n], W[n:-1], W[-1]
+
+
+def internal_energy(rho, scalars, p, gas):
+    """ρe at pressure ``p``: ``p/(γ−1)`` for an ideal gas."""
+    return p / (gas - 1.0) if not scalar_count(gas) else gas.internal_energy(rho, scalars, p)
+
+
+def pressure(rho, scalars, rho_e, gas):
+    """p from the internal energy per volume ``rho_e``: ``(γ−1) ρe`` for an ideal gas."""
+    return (gas - 1.0) * rho_e if not scalar_count(gas) else gas.pressure(rho, scalars, rho_e)
+
+
+def stiffness(W, gas):
+    """``ρc²`` of the primitive state ``W``: ``γ p`` for an ideal gas."""
+    if not scalar_count(gas):
+        return gas * W[-1]
+    rho, _, scalars, p = parts(W, gas)
+    return gas.stiffness(rho, scalars, p)
+
+
+def conservative(W, gas):
     """``U`` from ``W``."""
-    rho, vel, p = W[0], W[1:-1], W[-1]
-    return (rho, *(rho * c for c in vel), p / (gamma - 1.0) + 0.5 * rho * _squared_speed(vel))
+    rho, vel, scalars, p = parts(W, gas)
+    return (rho, *(rho * c for c in vel), *scalars, internal_energy(rho, scalars, p, gas)
+            + 0.5 * rho * _squared_speed(vel))
 
 
-def primitive(U, gamma):
+def primitive(U, gas):
     """``W`` from ``U``."""
-    rho, mom, E = U[0], U[1:-1], U[-1]
+    rho, mom, scalars, E = parts(U, gas)
     inv = 1.0 / rho
     vel = tuple(m * inv for m in mom)
-    return (rho, *vel, (gamma - 1.0) * (E - 0.5 * rho * _squared_speed(vel)))
+    return (rho, *vel, *scalars, pressure(rho, scalars, E - 0.5 * rho * _squared_speed(vel), gas))
 
 
-def sound_speed(W, gamma):
-    """``c = sqrt(gamma p / rho)``."""
-    return jnp.sqrt(gamma * W[-1] / W[0])
+def sound_speed(W, gas):
+    """``c = sqrt(gamma p / rho)`` (of a mixture, ``sqrt(ρc²/ρ)``)."""
+    if not scalar_count(gas):
+        return jnp.sqrt(gas * W[-1] / W[0])
+    return jnp.sqrt(stiffness(W, gas) / W[0])
 
 
 def rotated(W, d):
@@ -45,10 +82,12 @@ def rotated(W, d):
     return (W[0], *vel, W[-1])
 
 
-def normal_flux(W, gamma):
+def normal_flux(W, gas):
     """Physical flux through a face, from ``W`` in its normal frame
-    ``(rho, u_n, u_t..., p)``: ``(ρu_n, ρu_n² + p, ρu_n u_t, u_n(E + p))``."""
-    rho, un, vt, p = W[0], W[1], W[2:-1], W[-1]
+    ``(rho, u_n, u_t..., p)``: ``(ρu_n, ρu_n² + p, ρu_n u_t, u_n(E + p))``;
+    a mixture's scalars ``q`` (per volume) carry ``u_n q``."""
+    rho, vel, scalars, p = parts(W, gas)
+    un, vt = vel[0], vel[1:]
     m = rho * un
-    E = p / (gamma - 1.0) + 0.5 * rho * _squared_speed(W[1:-1])
-    return (m, m * un + p, *(m * c for c in vt), un * (E + p))
+    E = internal_energy(rho, scalars, p, gas) + 0.5 * rho * _squared_speed(vel)
+    return (m, m * un + p, *(m * c for c in vt), *(un * q for q in scalars), un * (E + p))

@@ -43,9 +43,11 @@ import numpy as np
 
 from partmesh.gridref.device_loop import device_loop
 from partmesh.gridref.euler.boundaries import N_GHOST, SchemeAxes, with_ghosts
+from partmesh.gridref.euler.mixture import burnt
 from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
-from partmesh.gridref.euler.state import primitive, rotated, sound_speed
+from partmesh.gridref.euler.state import (internal_energy, parts, primitive, rotated, scalar_count, sound_speed,
+                                          stiffness)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION, RadialTable, Rings, revolved
 from partmesh.gridref.staging import staged
@@ -59,17 +61,22 @@ def _shifted(a, axis, lo):
     return a[tuple(index)]
 
 
-def primitive_change(W, dW, d, gamma):
+def primitive_change(W, dW, d, gas):
     """``A_d(W) ΔW``: the quasi-linear primitive Euler operator along ``d``,
-    ``(u_n Δρ + ρ Δu_n, u_n Δu_k + δ_kd Δp/ρ, u_n Δp + γ p Δu_n)``."""
-    rho, un, p = W[0], W[1 + d], W[-1]
+    ``(u_n Δρ + ρ Δu_n, u_n Δu_k + δ_kd Δp/ρ, u_n Δp + ρc² Δu_n)`` (``ρc² = γp``
+    for an ideal gas); a mixture's partial densities q change like ρ,
+    ``u_n Δq + q Δu_n``, its volume fraction by ``u_n Δα``."""
+    rho, un = W[0], W[1 + d]
     dun, dp = dW[1 + d], dW[-1]
     dvel = [un * dv for dv in dW[1:-1]]
     dvel[d] = dvel[d] + dp / rho
-    return (un * dW[0] + rho * dun, *dvel, un * dp + gamma * p * dun)
+    first = len(W) - 1 - scalar_count(gas) - 1  # the first scalar, in dvel
+    for k in range(getattr(gas, "densities", 0)):
+        dvel[first + k] = dvel[first + k] + W[1 + first + k] * dun
+    return (un * dW[0] + rho * dun, *dvel, un * dp + stiffness(W, gas) * dun)
 
 
-def stable_dt(U, gamma, dx, cfl, fluid=None, crowding=None):
+def stable_dt(U, gas, dx, cfl, fluid=None, crowding=None):
     """CFL time step ``Δt = C / max_cells Σ_d (|u_d| + c)/Δx_d``; NaN if the
     fluid holds NaN, negative density or negative pressure (the caller
     reports where). In a geometry of revolution the radial rate of a cell
@@ -78,8 +85,8 @@ def stable_dt(U, gamma, dx, cfl, fluid=None, crowding=None):
     (:class:`partmesh.gridref.revolution.Rings`): 1.5 at a sphere's centre,
     where a step of C = 0.8 is unstable, and 1 in every cell of a cylinder
     (k = 1)."""
-    W = primitive(U, gamma)
-    c = sound_speed(W, gamma)
+    W = primitive(U, gas)
+    c = sound_speed(W, gas)
     rate = sum((jnp.abs(W[1 + d]) + c) * (1.0 / dx[d]) for d in range(len(dx)))
     if crowding is not None:
         rate = rate + (jnp.abs(W[1]) + c) * ((crowding - 1.0) / dx[0])
@@ -92,7 +99,8 @@ def stable_dt(U, gamma, dx, cfl, fluid=None, crowding=None):
 
 @dataclass(frozen=True)
 class Scheme(SchemeAxes):
-    """Settings of the MUSCL–Hancock scheme."""
+    """Settings of the MUSCL–Hancock scheme: ``gamma`` the gas's ratio of
+    specific heats, or with ``mixture`` the air's beside detonation products."""
 
     gamma: float
     dx: tuple[float, ...]
@@ -103,6 +111,18 @@ class Scheme(SchemeAxes):
     #: the power k of r in the face areas (:mod:`partmesh.gridref.revolution`): 0 planar, 1 axisymmetric (x is
     #: the distance r from the axis at x = 0, y is z), 2 spherical (1D, x is the distance from the centre)
     radial: int = 0
+    #: detonation products and air (:class:`~partmesh.gridref.euler.mixture.Mixture`), or None: an ideal gas
+    mixture: object = None
+
+    @property
+    def gas(self):
+        """What the state conversions take (:mod:`partmesh.gridref.euler.state`): γ, or the mixture."""
+        return self.gamma if self.mixture is None else self.mixture
+
+    @property
+    def variables(self) -> int:
+        """The variables of a cell's state."""
+        return self.dim + 2 + scalar_count(self.gas)
 
     def table(self, n: int) -> RadialTable | None:
         """The radial geometry of a radius of ``n`` cells of this scheme's
@@ -122,7 +142,7 @@ def grid_rings(scheme: Scheme, n: int) -> Rings | None:
 def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):
     """Primitive state with solid ghost cells filled and ``N_GHOST`` boundary
     ghost layers added on every side."""
-    W = primitive(U, scheme.gamma)
+    W = primitive(U, scheme.gas)
     if fill_solids is not None:
         W = fill_solids(W)
     return with_ghosts(W, scheme.kinds, states)
@@ -146,15 +166,23 @@ def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None, rings: Rings | None 
     mask of cells whose face states are physical and
     ``allowed`` (elsewhere ``W^{n+1/2} = W`` and the slopes are ignored: the
     cell is first order)."""
-    gamma, dx = scheme.gamma, scheme.dx
+    gas, dx = scheme.gas, scheme.dx
     Wc = tuple(cropped(a, scheme.axes, N_GHOST - 1) for a in Wg)
-    changes = [primitive_change(Wc, slopes[d], d, gamma) for d in range(scheme.dim)]
+    changes = [primitive_change(Wc, slopes[d], d, gas) for d in range(scheme.dim)]
     rates = [sum(ch[k] * (1.0 / dx[d]) for d, ch in enumerate(changes)) for k in range(len(Wc))]
-    if scheme.radial:  # the geometric terms −g ρ u_r and −g γ p u_r (cells −1 … n of the interior)
+    if scheme.radial:  # the geometric terms −g ρ u_r and −g ρc² u_r (cells −1 … n of the interior)
         g = rings.hoop
         rates[0] = rates[0] + g * Wc[0] * Wc[1]
-        rates[-1] = rates[-1] + g * gamma * Wc[-1] * Wc[1]
+        if scheme.mixture is None:
+            rates[-1] = rates[-1] + g * gas * Wc[-1] * Wc[1]
+        else:  # and −g q u_r of the partial densities
+            first = len(Wc) - 1 - gas.scalars
+            for k in range(first, first + gas.densities):
+                rates[k] = rates[k] + g * Wc[k] * Wc[1]
+            rates[-1] = rates[-1] + g * stiffness(Wc, gas) * Wc[1]
     Wh = tuple(w - (0.5 * dt) * rate for w, rate in zip(Wc, rates))
+    if scheme.mixture is not None:
+        Wh = scheme.mixture.bounded(Wh)
     ok = True if allowed is None else allowed
     for d in range(scheme.dim):
         for sign in (-0.5, 0.5):
@@ -170,8 +198,10 @@ def face_flux(Wh, slopes_d, ok, d, scheme: Scheme):
     s = tuple(jnp.where(ok, a, 0.0) for a in slopes_d)
     left = tuple(cropped(_shifted(w + 0.5 * ds, axes[d], True), others) for w, ds in zip(Wh, s))
     right = tuple(cropped(_shifted(w - 0.5 * ds, axes[d], False), others) for w, ds in zip(Wh, s))
+    if scheme.mixture is not None:
+        left, right = scheme.mixture.bounded(left), scheme.mixture.bounded(right)
     flux = RIEMANN_SOLVERS[scheme.riemann]
-    return rotated(flux(rotated(left, d), rotated(right, d), scheme.gamma), d)
+    return rotated(flux(rotated(left, d), rotated(right, d), scheme.gas), d)
 
 
 def _dilated(mask):
@@ -185,7 +215,7 @@ def _dilated(mask):
 FLOOR = 1e-6
 
 
-def vacuum_floored(U, gamma, fluid=None):
+def vacuum_floored(U, gas, fluid=None):
     """``(U, cells, Δρ, ΔE)``: ``U`` with every finite cell of a near-vacuum
     made physical: a non-positive pressure over a positive density raised
     to ``p_f = FLOOR · max p`` by internal energy alone (density and
@@ -199,27 +229,31 @@ def vacuum_floored(U, gamma, fluid=None):
     10⁴ times the internal; the rear corners of a triangle) the total and
     kinetic energies are updated separately and their difference loses its
     sign to a relative error of 10⁻⁴, however short the step (floors as in
-    Athena's or FLASH's)."""
-    W = primitive(U, gamma)
+    Athena's or FLASH's). A mixture's empty cell becomes air."""
+    W = primitive(U, gas)
     rho, p = W[0], W[-1]
     finite = jnp.all(jnp.stack([jnp.isfinite(a) for a in U]), axis=0)
-    gas = finite if fluid is None else finite & fluid
-    p_f = FLOOR * jnp.max(jnp.where(gas & (rho > 0.0) & (p > 0.0), p, 0.0))
-    rho_f = FLOOR * jnp.max(jnp.where(gas, rho, 0.0))
-    empty = gas & ~(rho > 0.0)
-    low = gas & (rho > 0.0) & ~(p > 0.0)
-    E = jnp.where(empty, p_f / (gamma - 1.0), jnp.where(low, U[-1] + (p_f - p) / (gamma - 1.0), U[-1]))
+    live = finite if fluid is None else finite & fluid
+    p_f = FLOOR * jnp.max(jnp.where(live & (rho > 0.0) & (p > 0.0), p, 0.0))
+    rho_f = FLOOR * jnp.max(jnp.where(live, rho, 0.0))
+    empty = live & ~(rho > 0.0)
+    low = live & (rho > 0.0) & ~(p > 0.0)
+    scalars = parts(U, gas)[2]
+    raised = ((p_f - p) / (gas - 1.0) if scalar_count(gas) == 0 else
+              (p_f - p) * gas.energy_per_pressure(scalars))
+    E = jnp.where(empty, internal_energy(rho_f, tuple(0.0 * q for q in scalars), p_f, gas),
+                  jnp.where(low, U[-1] + raised, U[-1]))
     mass = jnp.where(empty, rho_f, rho)
     momentum = tuple(jnp.where(empty, 0.0, m) for m in U[1:-1])
-    return (mass, *momentum, E), jnp.sum(empty | low), jnp.where(gas, mass - rho, 0.0), jnp.where(gas, E - U[-1], 0.0)
+    return (mass, *momentum, E), jnp.sum(empty | low), jnp.where(live, mass - rho, 0.0), jnp.where(live, E - U[-1], 0.0)
 
 
-def second_order_allowed(ok, U_new, gamma):
+def second_order_allowed(ok, U_new, gas):
     """``ok`` without the cells at or next to a cell whose updated state is
     not physical: the a-posteriori positivity fallback (in the spirit of
     MOOD, Clain, Diot & Loubère 2011) redoes the step with those cells first
     order. ``ok`` covers the interior plus one ghost layer."""
-    W = primitive(U_new, gamma)
+    W = primitive(U_new, gas)
     bad = ~(W[0] > 0.0) | ~(W[-1] > 0.0)
     return ok & ~_dilated(jnp.pad(bad, 1))
 
@@ -263,13 +297,22 @@ def flux_divergence(fluxes, scheme: Scheme, apertures=None, rings: Rings | None 
 
 def hoop_source(Wh, scheme: Scheme, rings: Rings):
     """The pressure's source ``p g`` of the radial momentum in a geometry of
-    revolution (zero arrays on the other components; ``Wh`` the half-step
-    state on the interior plus one ghost layer, the cells' ``rings``), which
-    D carries with a minus sign (:mod:`partmesh.gridref.revolution`)."""
-    p = cropped(Wh[-1], scheme.axes)
-    source = [jnp.zeros_like(p) for _ in Wh]
-    source[1] = p * rings.hoop[(slice(1, -1),) * rings.hoop.ndim]
-    return source
+    revolution (``Wh`` the half-step state on the interior plus one ghost
+    layer, the cells' ``rings``), which D's radial momentum carries with a
+    minus sign (:mod:`partmesh.gridref.revolution`)."""
+    return cropped(Wh[-1], scheme.axes) * rings.hoop[(slice(1, -1),) * rings.hoop.ndim]
+
+
+def advanced(U, divergence, dt, gas):
+    """``U − Δt D``; a mixture's volume fraction α, advected, ``α − Δt (D_α − α D_u)``
+    with ``D_u`` the divergence of the faces' volume flux (the last of ``divergence``,
+    :func:`partmesh.gridref.euler.riemann.hllc`), clipped to [0, 1] and kept admissible
+    (:meth:`partmesh.gridref.euler.mixture.Mixture.admissible`)."""
+    new = [u - dt * div for u, div in zip(U, divergence)]
+    if not scalar_count(gas):
+        return tuple(new)
+    new[-2] = jnp.clip(U[-2] - dt * (divergence[-3] - U[-2] * divergence[-1]), 0.0, 1.0)
+    return gas.admissible(tuple(new))
 
 
 def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None, rings: Rings | None = None, counted=None):
@@ -283,8 +326,8 @@ def flux_update(U, fluxes, dt, scheme: Scheme, Wh=None, immersed=None, rings: Ri
     if immersed is None:
         divergence, forces = flux_divergence(fluxes, scheme, rings=rings, counted=counted)
         if scheme.radial:
-            divergence = [div - s for div, s in zip(divergence, hoop_source(Wh, scheme, rings))]
-        return tuple(u - dt * div for u, div in zip(U, divergence)), forces
+            divergence[1] = divergence[1] - hoop_source(Wh, scheme, rings)
+        return advanced(U, divergence, dt, scheme.gas), forces
     divergence, forces = cut_cell_divergence(fluxes, Wh, scheme, immersed, rings)
     return immersed.advanced(U, divergence, dt), forces
 
@@ -300,7 +343,7 @@ def cut_cell_divergence(fluxes, Wh, scheme: Scheme, immersed, rings: Rings | Non
     walls = immersed.wall_divergence(W, scheme.gamma, scheme.riemann)
     divergence = [d + w for d, w in zip(divergence, walls)]
     if scheme.radial:  # the hoop source of the open part of each cell
-        divergence = [d - immersed.volume * s for d, s in zip(divergence, hoop_source(Wh, scheme, rings))]
+        divergence[1] = divergence[1] - immersed.volume * hoop_source(Wh, scheme, rings)
     return divergence, forces
 
 
@@ -323,7 +366,8 @@ def strip_rows(shape) -> int | None:
     return max(4, min(shape[0] // 2, STRIP_CELLS // int(np.prod(shape[1:]))))
 
 
-def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into, rings: Rings | None = None):
+def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into, rings: Rings | None = None,
+                  after: Callable | None = None):
     """``(U^{n+1}, ok, side_forces, dt_next)`` of a 2D or 3D grid without bodies,
     stepped in strips of ``rows`` rows of its first array axis (y in 2D, z in 3D; ghost cells, slopes, predictor,
     fluxes, update and CFL step of one strip, then the next): the same
@@ -336,9 +380,11 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
     ``U^{n+1}`` (the previous attempt's, so that no pass over the grid
     allocates or copies them). Where ``rows`` does not divide the grid, the
     last strip ends at the last row and overlaps the one before: its
-    overlapping rows come out the same and count once in the side forces."""
+    overlapping rows come out the same and count once in the side forces.
+    ``after(U_s, start)``, where given, changes each updated strip (beginning at row ``start``) before
+    its CFL step is taken (the programmed burn)."""
     ny, g = U[0].shape[0], N_GHOST
-    gamma, last = scheme.gamma, ny - rows
+    gas, last = scheme.gas, ny - rows
     across = tuple(range(scheme.dim - 1))  # the directions along a strip (x; x and y in 3D)
     # the strip axis's ghost rows: those of the first and last rows alone, ghosted as the whole grid is
     edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
@@ -350,7 +396,7 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
         above = [jax.lax.dynamic_slice_in_dim(u, jnp.maximum(start - g, 0), g) for u in U]
         below = [jax.lax.dynamic_slice_in_dim(u, jnp.minimum(start + rows, ny - g), g) for u in U]
         inner = [jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U]
-        W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gamma)
+        W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gas)
         W = with_ghosts(W, scheme.kinds, states, directions=across)
         return tuple(jnp.concatenate([jnp.where(start == 0, e[:g], w[:g]), w[g:-g],
                                       jnp.where(start == last, e[-g:], w[-g:])]) for w, e in zip(W, edges))
@@ -370,7 +416,9 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
         def updated(F, Wh, counted):
             U_s = tuple(jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U)
             U_s, forces = flux_update(U_s, F, dt, scheme, Wh, rings=rings, counted=counted)
-            return U_s, forces, stable_dt(U_s, gamma, scheme.dx, scheme.cfl, None, crowding)
+            if after is not None:
+                U_s = after(U_s, start)
+            return U_s, forces, stable_dt(U_s, gas, scheme.dx, scheme.cfl, None, crowding)
 
         U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
         # the sides along the strips through every strip; the end sides through the first and last strips' outer faces
@@ -428,7 +476,9 @@ class Stepper:
     resort; ``dt_next`` is the CFL step of the new state, NaN if it is not
     physical even then. ``floors`` counts the cells the floors changed and
     the mass and energy they added [kg and J, per metre depth in a planar 2D
-    run, over the whole body in a geometry of revolution].
+    run, over the whole body in a geometry of revolution]. With a charge
+    (``scheme.mixture``), the cells' ``lighting`` times drive its programmed
+    burn (:func:`partmesh.gridref.euler.mixture.burnt`) at the end of every step.
     :attr:`stretch` (:func:`partmesh.gridref.device_loop.device_loop`) runs it in one
     compiled loop; ``stepper(U, dt, t)`` is one step for a caller that
     steps on the host (the hybrid method).
@@ -442,36 +492,46 @@ class Stepper:
     RETRIES = 2
 
     def __init__(self, scheme: Scheme, immersed=None, solid_state=None, probe_sampler: Callable | None = None,
-                 n_probes: int = 0, inflow: Callable | None = None, n_records: int = 1024):
+                 n_probes: int = 0, inflow: Callable | None = None, n_records: int = 1024, lighting=None):
         self.scheme = scheme
         fluid = None if immersed is None else jnp.asarray(immersed.fluid)
         open_fraction = 1.0 if immersed is None else immersed.volume
 
         def cfl_dt(U):
             rings = grid_rings(scheme, U[0].shape[-1])
-            return stable_dt(U, scheme.gamma, scheme.dx, scheme.cfl, fluid, None if rings is None else rings.crowding)
+            return stable_dt(U, scheme.gas, scheme.dx, scheme.cfl, fluid, None if rings is None else rings.crowding)
         fill_solids = None if immersed is None else immersed.fill
-        no_inflow = jnp.zeros((2 * scheme.dim, scheme.dim + 2))
+        no_inflow = jnp.zeros((2 * scheme.dim, scheme.variables))
         inflow = inflow or (lambda t: no_inflow)
 
-        def checked(U_new, forces):
+        def burn(U, t, start=0):
+            """``U`` at time ``t`` with its charge burnt as far as the front has come (``start``: its first row)."""
+            if lighting is None:
+                return U
+            light = jnp.asarray(lighting)
+            if light.shape[0] != U[0].shape[0]:
+                light = jax.lax.dynamic_slice_in_dim(light, start, U[0].shape[0])
+            return burnt(U, light, t, scheme.dx[0], scheme.mixture.burn_speed)
+
+        def checked(U_new, forces, t_new):
+            U_new = burn(U_new, t_new)
             probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
             return U_new, cfl_dt(U_new), forces, probes
 
-        def update(U, F, Wh, dt, gate):
+        def update(U, F, Wh, t, dt, gate):
             rings = grid_rings(scheme, U[0].shape[-1])
             if immersed is None:
-                return staged(lambda U, F, Wh, dt: checked(*flux_update(U, F, dt, scheme, Wh, rings=rings)), gate)(
-                    U, F, Wh, dt)
+                return staged(lambda U, F, Wh, t, dt: checked(*flux_update(U, F, dt, scheme, Wh, rings=rings), t + dt),
+                              gate)(U, F, Wh, t, dt)
             # the cut-cell update in three stages: its right-hand side, the redistribution (which reads
             # the right-hand side of every neighbour), the reset of the solid cells with the checks
             D, forces = staged(lambda F, Wh: cut_cell_divergence(F, Wh, scheme, immersed, rings), gate)(F, Wh)
             U_new = staged(lambda U, D, dt: immersed.advanced(U, D, dt), gate)(U, D, dt)
-            return staged(lambda U_new, forces: checked(immersed.reset(U_new, solid_state), forces), gate)(U_new,
-                                                                                                         forces)
+            return staged(lambda U_new, forces, t_new: checked(immersed.reset(U_new, solid_state), forces, t_new),
+                          gate)(U_new, forces, t + dt)
 
         def floored(U):
-            U, cells, mass, energy = vacuum_floored(U, scheme.gamma, fluid)
+            U, cells, mass, energy = vacuum_floored(U, scheme.gas, fluid)
             open_volume = np.prod(scheme.dx) * revolved(U[0].shape, scheme.dx[0], scheme.radial) * open_fraction
             return U, cfl_dt(U), cells, jnp.sum(mass * open_volume), jnp.sum(energy * open_volume)
 
@@ -487,17 +547,18 @@ class Stepper:
             def attempt(allowed, previous):
                 if rows is not None:
                     U_new, ok, forces, dt_next = strip_attempt(U, allowed, dt, scheme, rows, gate, inflow(t),
-                                                               previous[0], rings)
+                                                               previous[0], rings, lambda U, start: burn(U, t + dt,
+                                                                                                         start))
                     probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
                     return (U_new, dt_next, forces, probes), ok
                 Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
                     Wg, slopes, allowed)
                 fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                           for d in range(scheme.dim)]
-                return update(U, fluxes, Wh, dt, gate), ok
+                return update(U, fluxes, Wh, t, dt, gate), ok
 
             def allowed_after(ok, U_new):
-                return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gamma), gate)(ok, U_new)
+                return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gas), gate)(ok, U_new)
 
             first = jnp.ones(tuple(n + 2 for n in U[0].shape), bool)
             start = (tuple(jnp.zeros_like(u) for u in U), jnp.zeros(()), jnp.zeros(2 * scheme.dim),
