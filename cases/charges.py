@@ -214,18 +214,25 @@ def surface_burst_1d(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=Non
     )
 
 
-def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=400, start="remap"):
+def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, n_out=400, start="remap",
+                  charge="balloon"):
     """A hemispherical charge of ``W`` kg TNT on a rigid ground, in r–z.
 
-    The charge is a Brode balloon, over [0, 16 W^(1/3)]² (the axis and the ground
-    reflect, the far sides are open), with ground gauges ``Z1`` … ``Z12``
-    (and ``Z0.5`` when it starts from the balloon).
+    The charge is a Brode balloon or TNT detonated from its centre
+    (``charge="jwl"``, its products with the JWL equation of state), over
+    [0, 16 W^(1/3)]² (the axis and the ground reflect, the far sides are
+    open), with ground gauges ``Z1`` … ``Z12`` (and ``Z0.5`` when it starts
+    from the balloon).
     ``start="remap"`` starts from the 1D spherical fv solution
     (:func:`surface_burst_1d`, 25 600 cells) remapped conserving mass and
     energy at t = 0.25 ms W^(1/3), the shock then at Z ≈ 0.7; ``"balloon"``
-    starts from the balloon itself at t = 0 (a few cells across on this grid)."""
-    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end)
+    starts from the balloon itself at t = 0 (a few cells across on this grid);
+    a TNT charge starts from its 1D sphere."""
+    W, rho0, p0, gamma, t_end, r_c = _charge(W, rho0, p0, gamma, t_end, charge)
     checks.choice("start", start, ("remap", "balloon"))
+    if charge == "jwl" and start != "remap":
+        raise InputError("charge=jwl starts from its 1D sphere, detonated from the centre (start='remap'): a "
+                         "charge a few centimetres across would be a handful of cells of the r-z grid.")
     scale = W ** (1.0 / 3.0)
     L = EXTENT * scale
     if start == "remap" and not t_end > T_REMAP * scale:
@@ -242,21 +249,25 @@ def surface_burst(W=1.0, rho0=AIR["rho0"], p0=AIR["p0"], gamma=1.4, t_end=None, 
         inside = ball_density(x, y, r_c, dx) * sphere_volume  # the fraction of each ring cell in the charge
         return (rho0 + inside * (TNT["density"] - rho0), 0.0, 0.0, p0 + inside * (p_c - p0))
 
-    parameters = dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, start=start)
+    parameters = dict(W=W, rho0=rho0, p0=p0, gamma=gamma, t_end=t_end, n_out=n_out, start=start, charge=charge)
     scene = Scene(
         name="surface_burst", parameters=parameters, dim=2, domain=domain, gamma=gamma, initial=balloon,
         geometry="axisymmetric",
         boundaries={"x_lo": "reflect", "x_hi": "outflow", "y_lo": "reflect", "y_hi": "outflow"},
         output=OutputGrid(domain=domain, shape=(n_out, n_out), times=times, dt_probe=dt_probe),
-        dx=L / 800, t_end=t_end, probes=probes, fields=("rho", "u", "v", "p", "e"),
+        dx=L / 800, t_end=t_end, probes=probes,
+        fields=("rho", "u", "v", "p", "e", "Y") if charge == "jwl" else ("rho", "u", "v", "p", "e"),
         measure=lambda ds: gauge_metrics(ds, W, p0),
-        description="Hemispherical TNT surface burst (Brode balloon) in r-z; measured: peak overpressure, arrival, "
-                    "positive duration and impulse at the ground gauges against Kingery-Bulmash.",
+        description=f"Hemispherical TNT surface burst ({'JWL products' if charge == 'jwl' else 'Brode balloon'}) "
+                    "in r-z; measured: peak overpressure, arrival, positive duration and impulse at the ground "
+                    "gauges against Kingery-Bulmash.",
     )
     if start == "balloon":
         return scene
     t_remap = T_REMAP * scale
-    sphere = surface_burst_1d(W, rho0, p0, gamma, t_end=t_remap, n_out=REMAP_CELLS, extent=EXTENT)
+    sphere = surface_burst_1d(W, rho0, p0, gamma, t_end=t_remap, n_out=REMAP_CELLS, charge=charge, extent=EXTENT)
+    if charge == "jwl":  # (the remap carries the products' volume)
+        sphere = dataclasses.replace(sphere, fields=sphere.fields + ("alpha",))
     return dataclasses.replace(scene, precursor=Precursor(sphere, "fv", {"dx": L / REMAP_CELLS},
                                                          lambda ds: remapped(scene, ds)))
 
@@ -268,29 +279,60 @@ def remapped(scene: Scene, sphere) -> Scene:
     (:func:`partmesh.cases.ball.shells_remapped`): each cell's mass,
     momentum and energy are what the shells it covers held, so the grid
     holds the sphere's half to round-off; the radial momentum is split
-    into r and z by the direction of each cell's centre."""
+    into r and z by the direction of each cell's centre. A sphere of
+    detonation products (fields ``Y`` and ``alpha``) also brings the products'
+    mass and volume of every shell, and each cell's pressure is the mixture's
+    (:class:`partmesh.compare.materials.ProductsInAir`)."""
     gamma = scene.gamma
     last = sphere.isel(time=-1)
     rho, u, p = (np.asarray(last[f].values, float) for f in ("rho", "u", "p"))
     x = np.asarray(sphere.x.values, float)
     edges = np.concatenate([[0.0], 0.5 * (x[1:] + x[:-1]), [x[-1] + 0.5 * (x[-1] - x[-2])]])
     ambient = scene.parameters["rho0"], scene.parameters["p0"]
-    moments = {"mass": rho, "momentum": rho * u, "energy": p / (gamma - 1.0) + 0.5 * rho * u * u}
+    products = "Y" in sphere
+    internal = rho * np.asarray(last["e"].values, float) if products else p / (gamma - 1.0)
+    moments = {"mass": rho, "momentum": rho * u, "energy": internal + 0.5 * rho * u * u}
     outside = {"mass": ambient[0], "momentum": 0.0, "energy": ambient[1] / (gamma - 1.0)}
+    if products:
+        moments.update(products=rho * np.asarray(last["Y"].values, float), volume=np.asarray(last["alpha"].values))
+        outside.update(products=0.0, volume=0.0)
     t_start = float(sphere.time[-1])
+    mixture = materials.ProductsInAir(materials.TNT, gamma)
+    kept = {}
+
+    def state(r, z, dx):
+        """``(ρ, u_r, u_z, p, ρY, α)`` of the ring cells (computed once per grid)."""
+        key = (float(dx), np.shape(r), float(np.sum(r)), float(np.sum(z)))
+        if key not in kept:
+            mean = {k: shells_remapped(r, z, dx, edges, v, outside[k]) for k, v in moments.items()}
+            R = np.hypot(r, z)
+            direction = np.where(R > 0.0, 1.0 / np.where(R > 0.0, R, 1.0), 0.0)
+            rho_c = mean["mass"]
+            u_r, u_z = mean["momentum"] * r * direction / rho_c, mean["momentum"] * z * direction / rho_c
+            rho_e = mean["energy"] - 0.5 * rho_c * (u_r * u_r + u_z * u_z)
+            kept.clear()
+            if not products:
+                kept[key] = (rho_c, u_r, u_z, (gamma - 1.0) * rho_e, None, None)
+            else:
+                rho_y, alpha = mean["products"], np.clip(mean["volume"], 0.0, 1.0)
+                kept[key] = (rho_c, u_r, u_z, mixture.pressure(rho_c, (rho_y, rho_y, alpha), rho_e), rho_y, alpha)
+        return kept[key]
 
     def initial(r, z, dx):
-        mean = {k: shells_remapped(r, z, dx, edges, v, outside[k]) for k, v in moments.items()}
-        R = np.hypot(r, z)
-        direction = np.where(R > 0.0, 1.0 / np.where(R > 0.0, R, 1.0), 0.0)
-        rho_c = mean["mass"]
-        u_r, u_z = mean["momentum"] * r * direction / rho_c, mean["momentum"] * z * direction / rho_c
-        p_c = (gamma - 1.0) * (mean["energy"] - 0.5 * rho_c * (u_r * u_r + u_z * u_z))
+        rho_c, u_r, u_z, p_c, rho_y, alpha = state(r, z, dx)
+        if products:  # (the air's density: the products' share is the charge's)
+            rho_c = np.where(alpha < 1.0, (rho_c - rho_y) / np.where(alpha < 1.0, 1.0 - alpha, 1.0), ambient[0])
         return rho_c, u_r, u_z, p_c
+
+    def products_density(r, z, dx):
+        _, _, _, _, rho_y, alpha = state(r, z, dx)
+        return np.where(alpha > 0.0, rho_y / np.where(alpha > 0.0, alpha, 1.0), materials.TNT.rho0)
 
     note = (f"started at t = {t_start:.6g} s from the 1D spherical fv run surface_burst_1d on {x.size} cells "
             "remapped onto the r-z cells by their exact overlap with its shells (mass, momentum magnitude and "
-            "energy of every shell kept)")
-    return dataclasses.replace(scene, initial=initial, t_start=t_start, precursor=None,
+            f"energy{', products mass and volume' if products else ''} of every shell kept)")
+    detonation = None if not products else Detonation(materials.TNT, lambda r, z, dx: state(r, z, dx)[5], (0.0, 0.0),
+                                                      density=products_density, burnt=True)
+    return dataclasses.replace(scene, initial=initial, t_start=t_start, precursor=None, detonation=detonation,
                                parameters={**scene.parameters, "started_from": note},
                                description=f"{scene.description} {note[0].upper()}{note[1:]}.")

@@ -35,13 +35,14 @@ class Detonation:
     (``y`` None in 1D) of spacing ``dx``, and the ``initiation`` point where
     the burn starts, from which it runs at the Chapman–Jouguet speed. The
     charge is unreacted at the explosive's density, or with ``burnt`` its
-    products from the start at ``density`` (default the explosive's), in
-    either case at the air's pressure."""
+    products from the start at ``density`` (default the explosive's; a
+    number, or ``density(x, y, dx)`` per cell), in either case at the
+    pressure and velocity ``initial`` gives, whose density is then the air's."""
 
     explosive: object
     fraction: Callable
     initiation: tuple[float, ...]
-    density: float | None = None
+    density: float | Callable | None = None
     burnt: bool = False
 
 

@@ -1,5 +1,5 @@
-r"""Detonation products: the Jones–Wilkins–Lee (JWL) equation of state and the explosives' constants
-(SPEC §3.10).
+r"""Detonation products: the Jones–Wilkins–Lee (JWL) equation of state, the explosives' constants, and
+the products sharing a cell with air at one pressure (:class:`ProductsInAir`) (SPEC §3.10).
 
 With the relative volume :math:`V = \rho_0/\rho` and the specific internal energy :math:`e`,
 
@@ -34,6 +34,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from partmesh.compare.checks import InputError
+
+#: below this volume fraction a material's own density is not formed (its share of every sum is nil)
+TRACE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -136,6 +139,81 @@ class JWL:
         p = float(self.hugoniot_pressure(V))
         D = math.sqrt(p / (self.rho0 * (1.0 - V)))
         return CJState(D=D, p=p, rho=self.rho0 / V, u=D * (1.0 - V), e=self.e0 + 0.5 * p * (1.0 - V) / self.rho0)
+
+
+@dataclass(frozen=True)
+class ProductsInAir:
+    r"""An explosive (``explosive``, a :class:`JWL`) and air (an ideal gas of ``gamma``) sharing a cell at
+    one pressure: the thermodynamics of the cell from its density ρ, its ``scalars`` — the explosive's
+    partial density ρY, its burnt part ρYλ (λ the burnt fraction), its volume fraction α — and its internal
+    energy or pressure. Both materials are of Mie–Grüneisen form :math:`p = \Gamma_k\rho_k e_k + f_k(\rho_k)`:
+    air with Γ = γ − 1 and f = 0, the explosive with Γ = ω and
+
+    .. math::  f_1(\rho_1) = \lambda f_{\rm JWL}(\rho_1)
+               + (1-\lambda)\big[K(1 - \rho_0/\rho_1) - \omega\rho_1 e_0\big],\qquad K = \rho_0 c_r^2
+
+    (:meth:`JWL.reference_terms`; the reactant the linear limit of the unreacted Hugoniot, at rest at zero
+    pressure holding e₀). The mixture's :math:`\rho e = \sum_k \alpha_k(p - f_k)/\Gamma_k` gives the
+    pressure in closed form (Shyue 2001, J. Comput. Phys. 171, 678),
+
+    .. math::  p = \frac{\rho e + \alpha f_1(\rho_1)/\omega}{\xi},\qquad
+               \xi = \frac{\alpha}{\omega} + \frac{1-\alpha}{\gamma-1},
+
+    and its sound speed is the frozen mixture's, :math:`\xi c^2 = \sum_k Y_k c_k^2/\Gamma_k` (Allaire, Clerc
+    & Kokh 2002, J. Comput. Phys. 181, 577), :math:`c_k^2 = ((1+\Gamma_k)p - f_k)/\rho_k + f_k'(\rho_k)`.
+    Every method takes the array namespace ``xp`` (NumPy, or JAX's inside a compiled solver)."""
+
+    explosive: JWL
+    gamma: float
+
+    def parts(self, rho, scalars, xp=np):
+        """``(ρ₁, ρ₂, Y, λ, α)``: each material's own density, the explosive's mass fraction, burnt fraction
+        and volume fraction (clipped to [0, 1]; a material under :data:`TRACE` gets a stand-in density
+        that every sum weighs by zero)."""
+        rho_y, burnt, alpha = scalars
+        alpha = xp.clip(alpha, 0.0, 1.0)
+        present, air = alpha > TRACE, alpha < 1.0 - TRACE
+        rho1 = xp.where(present, rho_y / xp.where(present, alpha, 1.0), self.explosive.rho0)
+        rho2 = xp.where(air, xp.maximum(rho - rho_y, TRACE * rho) / xp.where(air, 1.0 - alpha, 1.0), rho)
+        lam = xp.where(rho_y > 0.0, xp.clip(burnt / xp.where(rho_y > 0.0, rho_y, 1.0), 0.0, 1.0), 1.0)
+        return rho1, rho2, xp.clip(rho_y / rho, 0.0, 1.0), lam, alpha
+
+    def explosive_terms(self, rho1, lam, xp=np):
+        """``(f₁, f₁')``: the explosive's reference pressure and its derivative in ρ₁ (class docstring)."""
+        x = self.explosive
+        V, f_jwl, slope = x.reference_terms(rho1, xp)
+        K = x.rho0 * x.c_reactant ** 2
+        f_reactant = K * (1.0 - V) - x.omega * rho1 * x.e0
+        df_reactant = K * V / rho1 - x.omega * x.e0
+        return lam * f_jwl + (1.0 - lam) * f_reactant, lam * (-slope * V / rho1) + (1.0 - lam) * df_reactant
+
+    def xi(self, alpha):
+        """ξ = α/ω + (1 − α)/(γ − 1): ∂(ρe)/∂p at fixed partial densities."""
+        return alpha / self.explosive.omega + (1.0 - alpha) / (self.gamma - 1.0)
+
+    def pressure(self, rho, scalars, rho_e, xp=np):
+        """p = (ρe + α f₁/ω)/ξ [Pa]."""
+        rho1, _, _, lam, alpha = self.parts(rho, scalars, xp)
+        f1, _ = self.explosive_terms(rho1, lam, xp)
+        return (rho_e + alpha * f1 / self.explosive.omega) / self.xi(alpha)
+
+    def internal_energy(self, rho, scalars, p, xp=np):
+        """ρe = ξ p − α f₁/ω [J/m³]: the internal energy per volume at pressure ``p``."""
+        rho1, _, _, lam, alpha = self.parts(rho, scalars, xp)
+        f1, _ = self.explosive_terms(rho1, lam, xp)
+        return self.xi(alpha) * p - alpha * f1 / self.explosive.omega
+
+    def energy_per_pressure(self, scalars, xp=np):
+        """∂(ρe)/∂p at fixed partial densities: ξ."""
+        return self.xi(xp.clip(scalars[2], 0.0, 1.0))
+
+    def stiffness(self, rho, scalars, p, xp=np):
+        """ρc² [Pa]: the frozen mixture's (class docstring)."""
+        rho1, rho2, Y, lam, alpha = self.parts(rho, scalars, xp)
+        f1, df1 = self.explosive_terms(rho1, lam, xp)
+        c1 = ((1.0 + self.explosive.omega) * p - f1) / rho1 + df1
+        c2 = self.gamma * p / rho2
+        return rho * (Y * c1 / self.explosive.omega + (1.0 - Y) * c2 / (self.gamma - 1.0)) / self.xi(alpha)
 
 
 #: TNT (Dobratz & Crawford 1985, LLNL Explosives Handbook UCRL-52997 Change 2, Table 8-5): ρ₀ 1.630 g/cm³,

@@ -65,6 +65,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "p": ("Pa", "pressure"),
     "e": ("J kg-1", "specific internal energy"),
     "Y": ("1", "mass fraction of detonation products"),
+    "alpha": ("1", "volume fraction of detonation products"),
     "eta": ("m", "free-surface elevation above still water"),
     "h": ("m", "water depth"),
     "solid": ("1", "solid mask (1 inside obstacles, 0 in fluid)"),
@@ -74,7 +75,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "wall_impulse": ("N s m-1", "wall impulse per metre depth, time integral of wall_force"),
 }
 
-FIELDS = ("rho", "u", "v", "w", "p", "e", "Y", "eta", "h")
+FIELDS = ("rho", "u", "v", "w", "p", "e", "Y", "alpha", "eta", "h")
 SERIES_BY_PROBE = ("p_probe", "eta_probe")
 SERIES = ("wall_force", "wall_impulse")
 

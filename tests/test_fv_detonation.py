@@ -2,6 +2,8 @@
 closed forms of :mod:`partmesh.compare.materials`, a products–air contact carried at constant speed, a planar
 detonation against D, p_CJ and the Taylor wave, and the refusals."""
 
+import dataclasses
+
 import jax
 import numpy as np
 import pytest
@@ -117,3 +119,36 @@ def test_a_method_without_detonation_products_refuses_a_charge_in_one_sentence(m
 def test_fv_refuses_what_it_cannot_do_with_a_charge_in_one_sentence(options, message):
     with pytest.raises(InputError, match=message):
         pm.run(pm.scene("detonation_1d"), "fv", dx=1e-3, progress=False, **options)
+
+
+def test_a_jwl_surface_burst_starts_from_its_1d_sphere_with_its_mass_products_and_energy():
+    """The remap of a detonated sphere onto r–z: the quadrant's cells hold half the sphere's mass, products
+    mass, products volume and energy to round-off (the air beyond the sphere's reach at ambient), each cell's
+    pressure the mixture's (it gives back the remapped energy)."""
+    from partmesh.cases.charges import remapped, surface_burst, surface_burst_1d
+    from partmesh.gridref.euler.setup import initial_state
+    from partmesh.gridref.grid import solver_grid
+
+    scene = surface_burst(charge="jwl")
+    sphere = pm.run(dataclasses.replace(surface_burst_1d(t_end=2e-5, n_out=8000, charge="jwl", extent=16.0),
+                                        fields=("rho", "u", "p", "e", "Y", "alpha")), "fv", progress=False)
+    started = remapped(scene, sphere)
+    grid = solver_grid(scene.domain, scene.domain[0][1] / 400)
+    U = [np.asarray(a) for a in initial_state(started, grid)]
+    dx = scene.domain[0][1] / 400
+    R = (np.arange(400) + 0.5) * dx
+    volume = 2.0 * np.pi * R[None, :] * dx * dx
+    last = sphere.isel(time=-1)
+    r1 = np.asarray(sphere.x)
+    edges = np.concatenate([[0.0], 0.5 * (r1[1:] + r1[:-1]), [r1[-1] + 0.5 * (r1[1] - r1[0])]])
+    shells = 4.0 / 3.0 * np.pi * np.diff(edges ** 3)
+    rho0, p0 = scene.parameters["rho0"], scene.parameters["p0"]
+    rho, Y, alpha = (np.asarray(last[f]) for f in ("rho", "Y", "alpha"))
+    energy = rho * np.asarray(last.e) + 0.5 * rho * np.asarray(last.u) ** 2
+    total = np.sum(volume * np.ones((400, 1)))
+    beyond = total - 0.5 * np.sum(shells)
+    assert np.sum(U[0] * volume) == pytest.approx(0.5 * np.sum(rho * shells) + rho0 * beyond, rel=1e-12)
+    assert np.sum(U[3] * volume) == pytest.approx(0.5 * np.sum(rho * Y * shells), rel=1e-12)
+    assert np.sum(U[5] * volume) == pytest.approx(0.5 * np.sum(alpha * shells), rel=1e-12)
+    assert np.sum(U[-1] * volume) == pytest.approx(0.5 * np.sum(energy * shells) + p0 / 0.4 * beyond, rel=1e-10)
+    assert np.array_equal(U[4], U[3])  # all burnt

@@ -1,24 +1,6 @@
-r"""Detonation products and air in one cell: the pressure-equilibrium mixture of the five-equation model
-(Allaire, Clerc & Kokh 2002, J. Comput. Phys. 181, 577), with a programmed burn.
-
-A cell holds the explosive (volume fraction :math:`\alpha`, partial density :math:`\alpha\rho_1 = \rho Y`)
-and air (:math:`1-\alpha`, :math:`\rho(1-Y)`) at one pressure and one velocity. Both materials are of
-Mie–Grüneisen form :math:`p = \Gamma_k\rho_k e_k + f_k(\rho_k)`: air an ideal gas (Γ = γ − 1, f = 0), the
-explosive its burnt fraction :math:`\lambda` of JWL products and the rest reactant, at one Γ = ω,
-
-.. math::  f_1(\rho_1) = \lambda f_{\rm JWL}(\rho_1) + (1-\lambda)\big[K(1 - \rho_0/\rho_1) - \omega\rho_1 e_0\big],
-           \qquad K = \rho_0 c_r^2
-
-(:meth:`partmesh.compare.materials.JWL.reference_terms`; the reactant is the linear limit of the unreacted
-Hugoniot, at rest and ambient pressure until the burn reaches it). The mixture's internal energy
-:math:`\rho e = \sum_k \alpha_k(p - f_k)/\Gamma_k` gives the pressure in closed form (Shyue 2001,
-J. Comput. Phys. 171, 678, for Mie–Grüneisen mixtures):
-
-.. math::  p = \frac{\rho e + \alpha f_1(\rho_1)/\omega}{\xi},\qquad
-           \xi = \frac{\alpha}{\omega} + \frac{1-\alpha}{\gamma-1},
-
-and its sound speed is the frozen mixture's, :math:`\xi c^2 = \sum_k Y_k c_k^2/\Gamma_k` (Allaire et al.
-2002, eq. 3.5), with :math:`c_k^2 = ((1+\Gamma_k)p - f_k)/\rho_k + f_k'(\rho_k)`.
+r"""Detonation products and air in one cell of the fv grid: the pressure-equilibrium mixture of the
+five-equation model (Allaire, Clerc & Kokh 2002, J. Comput. Phys. 181, 577), whose equation of state is
+:class:`partmesh.compare.materials.ProductsInAir`, with a programmed burn.
 
 A contact between the two materials moving at constant speed keeps its pressure and velocity exactly: the
 partial densities are advected conservatively and α by :math:`\alpha_t + u\cdot\nabla\alpha = 0` with the
@@ -47,78 +29,26 @@ from functools import cached_property
 import jax.numpy as jnp
 import numpy as np
 
-from partmesh.compare.materials import JWL
+from partmesh.compare.materials import ProductsInAir
 from partmesh.gridref.euler.state import parts, primitive
 
 #: how many cells of front travel a programmed burn takes to complete in a cell
 BURN_CELLS = 1.5
-#: below this volume fraction a material's own density is not formed (its share of every sum is nil)
-TRACE = 1e-12
 
 
 @dataclass(frozen=True)
-class Mixture:
-    """Detonation products (``explosive``, a :class:`~partmesh.compare.materials.JWL`) and air (``gamma``):
-    the thermodynamics of a cell from its density, its three scalars (the explosive's partial density ρY, its
-    burnt part ρYλ, its volume fraction α) and its internal energy or pressure; the programmed burn runs at
-    ``burn_speed`` (the explosive's Chapman–Jouguet speed)."""
+class Mixture(ProductsInAir):
+    """Detonation products and air (:class:`~partmesh.compare.materials.ProductsInAir`) in the fv state
+    tuples: after its velocities a cell carries the explosive's partial density ρY, its burnt part ρYλ and
+    its volume fraction α; the programmed burn runs at ``burn_speed`` (the explosive's Chapman–Jouguet
+    speed)."""
 
-    explosive: JWL
-    gamma: float
     burn_speed: float
 
     #: the scalars a cell carries after its velocities, in the state tuples (ρY, ρYλ, α)
     scalars = 3
     #: of these, the ones advected like a density (conserved, compressed with the flow)
     densities = 2
-
-    def _parts(self, rho, scalars):
-        """``(ρ₁, ρ₂, Y, λ, α)``: each material's own density, the explosive's mass fraction, burnt fraction
-        and volume fraction (clipped to [0, 1]; a material under :data:`TRACE` gets a stand-in density
-        that every sum weighs by zero)."""
-        rho_y, burnt, alpha = scalars
-        alpha = jnp.clip(alpha, 0.0, 1.0)
-        present, air = alpha > TRACE, alpha < 1.0 - TRACE
-        rho1 = jnp.where(present, rho_y / jnp.where(present, alpha, 1.0), self.explosive.rho0)
-        rho2 = jnp.where(air, jnp.maximum(rho - rho_y, TRACE * rho) / jnp.where(air, 1.0 - alpha, 1.0), rho)
-        lam = jnp.where(rho_y > 0.0, jnp.clip(burnt / jnp.where(rho_y > 0.0, rho_y, 1.0), 0.0, 1.0), 1.0)
-        return rho1, rho2, jnp.clip(rho_y / rho, 0.0, 1.0), lam, alpha
-
-    def _explosive_terms(self, rho1, lam):
-        """``(f₁, f₁')``: the explosive's reference pressure and its derivative in ρ₁ (module docstring)."""
-        x = self.explosive
-        V, f_jwl, slope = x.reference_terms(rho1, jnp)
-        K = x.rho0 * x.c_reactant ** 2
-        f_reactant = K * (1.0 - V) - x.omega * rho1 * x.e0
-        df_reactant = K * V / rho1 - x.omega * x.e0
-        return lam * f_jwl + (1.0 - lam) * f_reactant, lam * (-slope * V / rho1) + (1.0 - lam) * df_reactant
-
-    def _xi(self, alpha):
-        return alpha / self.explosive.omega + (1.0 - alpha) / (self.gamma - 1.0)
-
-    def pressure(self, rho, scalars, rho_e):
-        """p = (ρe + α f₁/ω)/ξ [Pa]."""
-        rho1, _, _, lam, alpha = self._parts(rho, scalars)
-        f1, _ = self._explosive_terms(rho1, lam)
-        return (rho_e + alpha * f1 / self.explosive.omega) / self._xi(alpha)
-
-    def internal_energy(self, rho, scalars, p):
-        """ρe = ξ p − α f₁/ω [J/m³]: the internal energy per volume at pressure ``p``."""
-        rho1, _, _, lam, alpha = self._parts(rho, scalars)
-        f1, _ = self._explosive_terms(rho1, lam)
-        return self._xi(alpha) * p - alpha * f1 / self.explosive.omega
-
-    def energy_per_pressure(self, scalars):
-        """∂(ρe)/∂p at fixed partial densities: ξ."""
-        return self._xi(jnp.clip(scalars[2], 0.0, 1.0))
-
-    def stiffness(self, rho, scalars, p):
-        """ρc² [Pa]: the frozen mixture's (module docstring)."""
-        rho1, rho2, Y, lam, alpha = self._parts(rho, scalars)
-        f1, df1 = self._explosive_terms(rho1, lam)
-        c1 = ((1.0 + self.explosive.omega) * p - f1) / rho1 + df1
-        c2 = self.gamma * p / rho2
-        return rho * (Y * c1 / self.explosive.omega + (1.0 - Y) * c2 / (self.gamma - 1.0)) / self._xi(alpha)
 
     @cached_property
     def _isentrope(self):

@@ -61,7 +61,8 @@ def initial_state(scene, grid, fluid=None):
     charge = scene.detonation
     if charge is not None:
         alpha = np.broadcast_to(np.asarray(charge.fraction(*points[:2], dx), float), points[0].shape)
-        rho_y = alpha * (charge.explosive.rho0 if charge.density is None else charge.density)
+        density = charge.density(*points[:2], dx) if callable(charge.density) else charge.density
+        rho_y = alpha * (charge.explosive.rho0 if density is None else np.asarray(density, float))
         W = (rho_y + (1.0 - alpha) * W[0], *W[1:-1], rho_y, rho_y if charge.burnt else np.zeros_like(alpha), alpha,
              W[-1])
     return conservative(tuple(jnp.asarray(a) for a in W), gas_of(scene))
@@ -77,8 +78,9 @@ def gas_of(scene):
 
 
 def lighting_for(scene, grid):
-    """The programmed burn's lighting time of every cell of ``grid`` (:func:`~partmesh.gridref.euler.mixture.
-    lighting_times`), or None without a charge to burn."""
+    """The programmed burn's lighting time of every cell of ``grid``
+    (:func:`~partmesh.gridref.euler.mixture.lighting_times`), or None
+    without a charge to burn."""
     charge = scene.detonation
     if charge is None or charge.burnt:
         return None
@@ -121,15 +123,15 @@ def failure_sentence(U, gas, grid, t, n_steps, dt, fluid=None):
 
 
 def named_fields(W, gas, names, solid=None) -> dict:
-    """The schema's fields ``names`` (of rho, u, v, w, p, e; Y, the products' mass
-    fraction, of a mixture) from the primitive state ``W`` (of ``gas``: γ or a
+    """The schema's fields ``names`` (of rho, u, v, w, p, e; Y and alpha, the products' mass
+    and volume fractions, of a mixture) from the primitive state ``W`` (of ``gas``: γ or a
     mixture) as numpy arrays, NaN in the ``solid`` cells."""
     rho, vel, scalars, p = parts([np.asarray(a) for a in W], gas)
     e = (p / ((gas - 1.0) * rho) if not scalar_count(gas) else
          np.asarray(internal_energy(rho, scalars, p, gas)) / rho)
     values = {"rho": rho, "p": p, "e": e, **dict(zip("uvw", vel))}
     if scalar_count(gas):
-        values["Y"] = np.clip(scalars[0] / rho, 0.0, 1.0)
+        values["Y"], values["alpha"] = np.clip(scalars[0] / rho, 0.0, 1.0), scalars[2]
     out = {}
     for name in names:
         f = np.array(values[name])

@@ -34,12 +34,12 @@ def parts(W, gas):
 
 def internal_energy(rho, scalars, p, gas):
     """ρe at pressure ``p``: ``p/(γ−1)`` for an ideal gas."""
-    return p / (gas - 1.0) if not scalar_count(gas) else gas.internal_energy(rho, scalars, p)
+    return p / (gas - 1.0) if not scalar_count(gas) else gas.internal_energy(rho, scalars, p, jnp)
 
 
 def pressure(rho, scalars, rho_e, gas):
     """p from the internal energy per volume ``rho_e``: ``(γ−1) ρe`` for an ideal gas."""
-    return (gas - 1.0) * rho_e if not scalar_count(gas) else gas.pressure(rho, scalars, rho_e)
+    return (gas - 1.0) * rho_e if not scalar_count(gas) else gas.pressure(rho, scalars, rho_e, jnp)
 
 
 def stiffness(W, gas):
@@ -47,7 +47,7 @@ def stiffness(W, gas):
     if not scalar_count(gas):
         return gas * W[-1]
     rho, _, scalars, p = parts(W, gas)
-    return gas.stiffness(rho, scalars, p)
+    return gas.stiffness(rho, scalars, p, jnp)
 
 
 def conservative(W, gas):

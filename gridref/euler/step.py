@@ -240,7 +240,7 @@ def vacuum_floored(U, gas, fluid=None):
     low = live & (rho > 0.0) & ~(p > 0.0)
     scalars = parts(U, gas)[2]
     raised = ((p_f - p) / (gas - 1.0) if scalar_count(gas) == 0 else
-              (p_f - p) * gas.energy_per_pressure(scalars))
+              (p_f - p) * gas.energy_per_pressure(scalars, jnp))
     E = jnp.where(empty, internal_energy(rho_f, tuple(0.0 * q for q in scalars), p_f, gas),
                   jnp.where(low, U[-1] + raised, U[-1]))
     mass = jnp.where(empty, rho_f, rho)

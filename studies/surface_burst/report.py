@@ -75,14 +75,17 @@ def file_label(ds) -> str:
 
 
 def variant(ds) -> list:
-    """The settings of a run that set it apart from the record's other runs at its cell size: a dsmc redraw's
+    """The settings of a run that set it apart from the record's other runs at its cell size: a TNT charge
+    with JWL products (``jwl``) rather than a Brode balloon, a dsmc redraw's
     ``profile`` other than uniform, its ``redraw`` schedule other than every step, and a seed other than 1
     (every run of the record before it used seed 1); an fv run's refinement levels (``levels5``)."""
-    solver = json.loads(ds.attrs["parameters"])["solver"]
+    parameters = json.loads(ds.attrs["parameters"])
+    solver = parameters["solver"]
+    jwl = ["jwl"] if parameters["scene"].get("charge", "balloon") == "jwl" else []
     profile = [solver["profile"]] if solver.get("profile", "uniform") != "uniform" else []
     redraw = [solver["redraw"]] if solver.get("redraw", "every-step") != "every-step" else []
     levels = [f"levels{solver['levels']}"] if solver.get("levels", 1) > 1 else []
-    return levels + profile + redraw + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
+    return jwl + levels + profile + redraw + ([f"seed{solver['seed']}"] if solver.get("seed", 1) != 1 else [])
 
 
 def place(geometry: str, dx: float, before: float = 0.0) -> tuple:
@@ -119,20 +122,23 @@ def table(runs: dict) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-#: a colour map per method and geometry: its runs take shades of it, finest darkest
-FAMILIES = {("fv", "axisymmetric"): "Blues", ("fv", "spherical"): "Greens", ("sph", "axisymmetric"): "Oranges",
-            ("dsmc", "axisymmetric"): "Purples"}
+#: a colour map per method, geometry and charge (True: TNT with JWL products): its runs take shades of it,
+#: finest darkest
+FAMILIES = {("fv", "axisymmetric", False): "Blues", ("fv", "spherical", False): "Greens",
+            ("sph", "axisymmetric", False): "Oranges", ("dsmc", "axisymmetric", False): "Purples",
+            ("fv", "spherical", True): "Reds", ("fv", "axisymmetric", True): "RdPu"}
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
 
 
 def run_styles(df: pd.DataFrame) -> dict:
-    """Per run, its line's colour (a shade of its method's and geometry's
-    colour map, darker with a finer cell), marker (one per run of the family)
+    """Per run, its line's colour (a shade of its method's, geometry's and
+    charge's colour map, darker with a finer cell), marker (one per run of the family)
     and line style (dashed: refined), so no two runs look alike."""
     styles = {}
-    for (m, geometry), rows in df.groupby(["method", "geometry"], sort=False):
+    jwl = df.run.str.split().apply(lambda words: "jwl" in words).rename("jwl")
+    for (m, geometry, products), rows in df.groupby(["method", "geometry", jwl], sort=False):
         runs = list(rows.sort_values("dx", ascending=False, kind="stable").run.drop_duplicates())
-        cmap = plt.get_cmap(FAMILIES.get((m, geometry), "Greys"))
+        cmap = plt.get_cmap(FAMILIES.get((m, geometry, bool(products)), "Greys"))
         for k, run in enumerate(runs):
             styles[run] = dict(color=cmap(0.4 + 0.55 * k / max(len(runs) - 1, 1)), marker=MARKERS[k % len(MARKERS)],
                                ls="--" if "levels" in run else "-")
@@ -141,7 +147,7 @@ def run_styles(df: pd.DataFrame) -> dict:
 
 def peaks_figure(df: pd.DataFrame, path: Path) -> None:
     """Peak overpressure (raw and fitted) and positive impulse against Z, with the Kingery–Bulmash curves."""
-    Z = np.geomspace(0.8, 14.0, 200)
+    Z = np.geomspace(0.4, 24.0, 200)
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.4))
     for ax, (q, kb, unit, scale) in zip(axes, (("peak_overpressure", "incident_overpressure", "kPa", 1e-3),
                                                ("peak_overpressure_fitted", "incident_overpressure", "kPa", 1e-3),
