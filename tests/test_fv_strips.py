@@ -102,3 +102,37 @@ def test_strip_rows_fit_the_caches():
     assert step.strip_rows((40, 10 ** 5)) == 4  # at least four rows
     assert step.strip_rows((7, 512)) is None  # too few rows to split
     assert step.strip_rows((512,)) is None  # 1D
+
+
+def test_a_charge_s_strips_equal_the_whole_grid_its_air_stepped_as_the_gas(monkeypatch):
+    """Detonation products in the lower rows of an r–z grid: the strips without explosive are stepped with the
+    air's ideal-gas kernels (:func:`partmesh.gridref.euler.step.strip_attempt`), the others with the mixture's;
+    over three steps the state equals the whole grid's (the mixture's kernels everywhere) to rounding, and the
+    air's scalars stay exactly zero."""
+    from partmesh.compare.materials import TNT
+    from partmesh.gridref.euler.mixture import Mixture
+    from partmesh.gridref.euler.state import conservative
+
+    gas = Mixture(TNT, 1.4, TNT.cj_state().D)
+    ny, nx = 96, 64
+    y, x = np.meshgrid((np.arange(ny) + 0.5) / nx, (np.arange(nx) + 0.5) / nx, indexing="ij")
+    alpha = np.clip((0.2 - np.hypot(x, y)) * nx + 0.5, 0.0, 1.0)  # a quarter disc of products, its edge one cell
+    rho_y = 50.0 * alpha
+    rho = rho_y + (1.0 - alpha) * 1.2
+    W = (rho, 0.0 * x, 0.0 * x, rho_y, rho_y, alpha, 1e5 + 5e6 * alpha)
+    U0 = tuple(jnp.asarray(u) for u in conservative(tuple(jnp.asarray(a) for a in W), gas))
+    scheme = step.Scheme(gamma=1.4, dx=(1.0 / nx, 1.0 / nx), kinds=("reflect", "outflow", "reflect", "outflow"),
+                         radial=1, mixture=gas)
+    results = []
+    for cells in (32 * nx, 0):
+        monkeypatch.setattr(step, "STRIP_CELLS", cells)
+        stepper = step.Stepper(scheme)
+        state = stepper.start(U0)
+        for _ in range(3):
+            state, dt_next, _, _ = stepper.one_step(state, 0.0, 2e-7)
+        results.append((np.stack([np.asarray(u) for u in state[0]]), float(dt_next)))
+    (strips, dt_strips), (whole, dt_whole) = results
+    for k, (a, b) in enumerate(zip(strips, whole)):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.abs(b).max(), err_msg=f"variable {k}")
+    assert dt_strips == pytest.approx(dt_whole, rel=1e-12)
+    assert np.all(strips[3:6, 40:] == 0.0)  # the rows above the products: air, scalars exactly zero

@@ -52,12 +52,12 @@ class Mixture(ProductsInAir):
 
     @cached_property
     def _isentrope(self):
-        """``(ln p_s, ln ρ)`` on the principal isentrope, from 10⁻⁶ to 2 times the unreacted density."""
+        """``(ln p_s, ln ρ)`` on the principal isentrope, from 10⁻⁶ to 2 times the unreacted density (NumPy
+        arrays: constants of any program that reads them, never values of one trace kept for another)."""
         x = self.explosive
         cj = x.cj_state()
         rho = np.geomspace(1e-6, 2.0, 600) * x.rho0
-        return (jnp.asarray(np.log(x.isentrope_pressure(rho, x.isentrope(cj.rho, cj.p)))),
-                jnp.asarray(np.log(rho)))
+        return np.log(x.isentrope_pressure(rho, x.isentrope(cj.rho, cj.p))), np.log(rho)
 
     def admissible(self, U):
         """The conservative state ``U`` with α raised where the burnt products would be denser than the

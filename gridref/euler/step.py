@@ -34,6 +34,7 @@ whole, 1.1e7 in strips; 512²: 9.5e6 and 1.4e7).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -382,45 +383,76 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
     last strip ends at the last row and overlaps the one before: its
     overlapping rows come out the same and count once in the side forces.
     ``after(U_s, start)``, where given, changes each updated strip (beginning at row ``start``) before
-    its CFL step is taken (the programmed burn)."""
+    its CFL step is taken (the programmed burn). Beside a charge, a strip whose cells and ghost rows hold no
+    explosive (its three scalars zero, as they stay) is stepped with the air's ideal-gas kernels."""
     ny, g = U[0].shape[0], N_GHOST
-    gas, last = scheme.gas, ny - rows
+    last = ny - rows
     across = tuple(range(scheme.dim - 1))  # the directions along a strip (x; x and y in 3D)
-    # the strip axis's ghost rows: those of the first and last rows alone, ghosted as the whole grid is
-    edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
-    edges = staged(lambda E: ghosted_primitive(E, states, scheme), gate)(edges)
     crowding = None if rings is None else rings.crowding
 
-    def window(U, start):
-        """The strip's primitive state with its ghost cells: its neighbours' rows or the end sides' ghosts."""
-        above = [jax.lax.dynamic_slice_in_dim(u, jnp.maximum(start - g, 0), g) for u in U]
-        below = [jax.lax.dynamic_slice_in_dim(u, jnp.minimum(start + rows, ny - g), g) for u in U]
-        inner = [jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U]
-        W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gas)
-        W = with_ghosts(W, scheme.kinds, states, directions=across)
-        return tuple(jnp.concatenate([jnp.where(start == 0, e[:g], w[:g]), w[g:-g],
-                                      jnp.where(start == last, e[-g:], w[-g:])]) for w, e in zip(W, edges))
+    def stepper(scheme, U, states, after):
+        """The step of one strip of ``U`` (a state of ``scheme``'s layout): ``(start, counted, allowed_s) ->
+        (U_s, ok_s, forces_s, dt_s)``."""
+        gas = scheme.gas
+        # the strip axis's ghost rows: those of the first and last rows alone, ghosted as the whole grid is
+        edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
+        edges = staged(lambda E: ghosted_primitive(E, states, scheme), gate)(edges)
+
+        def window(U, start):
+            """The strip's primitive state with its ghost cells: its neighbours' rows or the end sides' ghosts."""
+            above = [jax.lax.dynamic_slice_in_dim(u, jnp.maximum(start - g, 0), g) for u in U]
+            below = [jax.lax.dynamic_slice_in_dim(u, jnp.minimum(start + rows, ny - g), g) for u in U]
+            inner = [jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U]
+            W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gas)
+            W = with_ghosts(W, scheme.kinds, states, directions=across)
+            return tuple(jnp.concatenate([jnp.where(start == 0, e[:g], w[:g]), w[g:-g],
+                                          jnp.where(start == last, e[-g:], w[-g:])]) for w, e in zip(W, edges))
+
+        def step(start, counted, allowed_s):
+            Wg = staged(window, gate)(U, start)
+            slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
+            Wh, ok_s = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
+                Wg, slopes, allowed_s)
+            fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok_s)
+                      for d in range(scheme.dim)]
+
+            def updated(F, Wh, counted):
+                U_s = tuple(jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U)
+                U_s, forces = flux_update(U_s, F, dt, scheme, Wh, rings=rings, counted=counted)
+                if after is not None:
+                    U_s = after(U_s, start)
+                return U_s, forces, stable_dt(U_s, gas, scheme.dx, scheme.cfl, None, crowding)
+
+            U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
+            return U_s, ok_s, forces_s, dt_s
+        return step
+
+    step = stepper(scheme, U, states, after)
+    if scheme.mixture is not None:
+        # a strip whose cells and ghost rows hold no explosive is stepped as the air it is, at the gas's cost
+        first = len(U) - 1 - scheme.mixture.scalars
+        euler = [*range(first), len(U) - 1]
+        air = stepper(dataclasses.replace(scheme, mixture=None), tuple(U[i] for i in euler), states[:, euler], None)
+
+        def air_step(start, counted, allowed_s):
+            U_s, ok_s, forces_s, dt_s = air(start, counted, allowed_s)
+            zero = jnp.zeros_like(U_s[0])
+            return (*U_s[:-1], *(zero,) * scheme.mixture.scalars, U_s[-1]), ok_s, forces_s, dt_s
+
+        mixture_step = step
+
+        def step(start, counted, allowed_s):
+            lo = jnp.clip(start - g, 0, ny - rows - 2 * g)
+            charged = jnp.any(jnp.stack([jnp.any(jax.lax.dynamic_slice_in_dim(q, lo, rows + 2 * g) != 0.0)
+                                         for q in U[first:-1]]))
+            return jax.lax.cond(charged, mixture_step, air_step, start, counted, allowed_s)
 
     def strip(k, carry):
         U_new, ok, forces, dt_next = carry
         start = jnp.minimum(k * rows, last)
         counted = (start + jnp.arange(rows) >= k * rows).astype(U[0].dtype)
-        Wg = staged(window, gate)(U, start)
         allowed_s = jax.lax.dynamic_slice_in_dim(allowed, start, rows + 2)
-        slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
-        Wh, ok_s = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
-            Wg, slopes, allowed_s)
-        fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok_s)
-                  for d in range(scheme.dim)]
-
-        def updated(F, Wh, counted):
-            U_s = tuple(jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U)
-            U_s, forces = flux_update(U_s, F, dt, scheme, Wh, rings=rings, counted=counted)
-            if after is not None:
-                U_s = after(U_s, start)
-            return U_s, forces, stable_dt(U_s, gas, scheme.dx, scheme.cfl, None, crowding)
-
-        U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
+        U_s, ok_s, forces_s, dt_s = step(start, counted, allowed_s)
         # the sides along the strips through every strip; the end sides through the first and last strips' outer faces
         sides = jnp.array([True, True] * len(across) + [start == 0, start == last], dtype=forces_s.dtype)
         return (tuple(jax.lax.dynamic_update_slice_in_dim(a, b, start, 0) for a, b in zip(U_new, U_s)),
