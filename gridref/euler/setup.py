@@ -4,6 +4,8 @@ sentence a run that fails ends with."""
 
 from __future__ import annotations
 
+import functools
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -72,23 +74,27 @@ def gas_of(scene):
     """What the fv state conversions take for ``scene`` (:mod:`partmesh.gridref.euler.state`): its γ, or, with
     a charge, the :class:`~partmesh.gridref.euler.mixture.Mixture` of its products and air."""
     charge = scene.detonation
-    if charge is None:
-        return scene.gamma
-    return Mixture(charge.explosive, scene.gamma, charge.explosive.cj_state().D)
+    return scene.gamma if charge is None else _mixture(charge.explosive, scene.gamma)
 
 
-def lighting_for(scene, grid):
+@functools.cache
+def _mixture(explosive, gamma: float) -> Mixture:
+    """The one :class:`~partmesh.gridref.euler.mixture.Mixture` of ``explosive`` and air of ``gamma`` in this
+    process: its CJ speed solved, and its isentrope tabulated, once."""
+    return Mixture(explosive, gamma, explosive.cj_state().D)
+
+
+def lighting_for(scene, grid, U):
     """The programmed burn's lighting time of every cell of ``grid``
-    (:func:`~partmesh.gridref.euler.mixture.lighting_times`), or None
-    without a charge to burn."""
+    (:func:`~partmesh.gridref.euler.mixture.lighting_times`): the cells
+    that hold explosive in the initial state ``U``; None without a charge
+    to burn."""
     charge = scene.detonation
     if charge is None or charge.burnt:
         return None
     points = mesh(grid)
-    fraction = np.broadcast_to(np.asarray(charge.fraction(*points[:2], float(grid.step[0])), float),
-                               points[0].shape)
     coordinates = [points[0]] if scene.dim == 1 else list(points)
-    return lighting_times(coordinates, fraction, charge.initiation, gas_of(scene).burn_speed)
+    return lighting_times(coordinates, np.asarray(U[-2]), charge.initiation, gas_of(scene).burn_speed)
 
 
 def immersed_for(scene, grid):

@@ -48,7 +48,7 @@ def solve(scene, settings: FVSettings):
     probe_idx, probe_w = bilinear_stencil(grid, [pr.at(scene.dim) for pr in scene.probes] or [(0.0,) * scene.dim])
     probe_pressure = _probe_sampler(probe_idx, probe_w, gas)
     stepper = _stepper_for(scene, scheme, U, ib, probe_pressure, (probe_idx.tobytes(), probe_w.tobytes()),
-                           len(probe_w))
+                           len(probe_w), lighting_for(scene, grid, U))
     with compiling("fv", settings.progress, GRID_SIZE) as compiled:
         stepper.compile(U)
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=compiled.seconds,
@@ -89,7 +89,7 @@ _STEPPERS: dict = {}
 _KEPT = 8
 
 
-def _stepper_for(scene, scheme, U, immersed, probes, stencil, n_probes) -> Stepper:
+def _stepper_for(scene, scheme, U, immersed, probes, stencil, n_probes, lighting=None) -> Stepper:
     """The :class:`~partmesh.gridref.euler.step.Stepper` of a run, sampling
     its ``probes`` (``stencil``: the bytes of their cells and weights).
     Without bodies or inflow sides its program depends only on the scheme,
@@ -97,12 +97,13 @@ def _stepper_for(scene, scheme, U, immersed, probes, stencil, n_probes) -> Stepp
     and probes again in this process takes the stepper of the one before,
     whose step is traced and compiled already (a new one costs its tracing,
     about 0.8 s for ``sod``, whatever the persistent compilation cache
-    holds). A kept stepper holds neither the scene nor its state."""
+    holds). A kept stepper holds neither the scene nor its state. A charge's
+    ``lighting`` times (:func:`~partmesh.gridref.euler.setup.lighting_for`)
+    drive its programmed burn."""
     inflow = any(isinstance(scene.boundaries[side], Inflow) for side in scene.sides)
     if immersed is not None or inflow or scene.detonation is not None:
         return Stepper(scheme, immersed=immersed, solid_state=U, probe_sampler=probes, n_probes=n_probes,
-                       inflow=lambda t: inflow_states(scene, t), lighting=lighting_for(scene, solver_grid(
-                           scene.domain, scheme.dx[0])))
+                       inflow=lambda t: inflow_states(scene, t), lighting=lighting)
     key = (scheme, U[0].shape, stencil)
     if key not in _STEPPERS:
         if len(_STEPPERS) >= _KEPT:

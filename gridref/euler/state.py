@@ -26,9 +26,20 @@ def scalar_count(gas) -> int:
     return getattr(gas, "scalars", 0)
 
 
+def first_scalar(W, gas) -> int:
+    """The index of the first scalar in a state tuple ``W`` or ``U`` of ``gas`` (past its velocities)."""
+    return len(W) - 1 - scalar_count(gas)
+
+
+def density_scalars(W, gas) -> range:
+    """The indices in ``W`` of the scalars advected like a density (a mixture's partial densities)."""
+    first = first_scalar(W, gas)
+    return range(first, first + getattr(gas, "densities", 0))
+
+
 def parts(W, gas):
     """``(rho, velocities, scalars, last)`` of a state tuple ``W`` or ``U`` of ``gas``."""
-    n = len(W) - 1 - scalar_count(gas)
+    n = first_scalar(W, gas)
     return W[0], W[1:n], W[n:-1], W[-1]
 
 

@@ -47,8 +47,8 @@ from partmesh.gridref.euler.boundaries import N_GHOST, SchemeAxes, with_ghosts
 from partmesh.gridref.euler.mixture import burnt
 from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
-from partmesh.gridref.euler.state import (internal_energy, parts, primitive, rotated, scalar_count, sound_speed,
-                                          stiffness)
+from partmesh.gridref.euler.state import (density_scalars, internal_energy, parts, primitive, rotated, scalar_count,
+                                          sound_speed, stiffness)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION, RadialTable, Rings, revolved
 from partmesh.gridref.staging import staged
@@ -71,9 +71,8 @@ def primitive_change(W, dW, d, gas):
     dun, dp = dW[1 + d], dW[-1]
     dvel = [un * dv for dv in dW[1:-1]]
     dvel[d] = dvel[d] + dp / rho
-    first = len(W) - 1 - scalar_count(gas) - 1  # the first scalar, in dvel
-    for k in range(getattr(gas, "densities", 0)):
-        dvel[first + k] = dvel[first + k] + W[1 + first + k] * dun
+    for k in density_scalars(W, gas):  # (dvel holds W[1:-1])
+        dvel[k - 1] = dvel[k - 1] + W[k] * dun
     return (un * dW[0] + rho * dun, *dvel, un * dp + stiffness(W, gas) * dun)
 
 
@@ -177,8 +176,7 @@ def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None, rings: Rings | None 
         if scheme.mixture is None:
             rates[-1] = rates[-1] + g * gas * Wc[-1] * Wc[1]
         else:  # and −g q u_r of the partial densities
-            first = len(Wc) - 1 - gas.scalars
-            for k in range(first, first + gas.densities):
+            for k in density_scalars(Wc, gas):
                 rates[k] = rates[k] + g * Wc[k] * Wc[1]
             rates[-1] = rates[-1] + g * stiffness(Wc, gas) * Wc[1]
     Wh = tuple(w - (0.5 * dt) * rate for w, rate in zip(Wc, rates))
@@ -430,9 +428,9 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
     step = stepper(scheme, U, states, after)
     if scheme.mixture is not None:
         # a strip whose cells and ghost rows hold no explosive is stepped as the air it is, at the gas's cost
-        first = len(U) - 1 - scheme.mixture.scalars
-        euler = [*range(first), len(U) - 1]
-        air = stepper(dataclasses.replace(scheme, mixture=None), tuple(U[i] for i in euler), states[:, euler], None)
+        rho, momentum, scalars, energy = parts(U, scheme.gas)
+        euler = [*range(1 + len(momentum)), len(U) - 1]  # (ρ, momentum, E)
+        air = stepper(dataclasses.replace(scheme, mixture=None), (rho, *momentum, energy), states[:, euler], None)
 
         def air_step(start, counted, allowed_s):
             U_s, ok_s, forces_s, dt_s = air(start, counted, allowed_s)
@@ -444,7 +442,7 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
         def step(start, counted, allowed_s):
             lo = jnp.clip(start - g, 0, ny - rows - 2 * g)
             charged = jnp.any(jnp.stack([jnp.any(jax.lax.dynamic_slice_in_dim(q, lo, rows + 2 * g) != 0.0)
-                                         for q in U[first:-1]]))
+                                         for q in scalars]))
             return jax.lax.cond(charged, mixture_step, air_step, start, counted, allowed_s)
 
     def strip(k, carry):
