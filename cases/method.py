@@ -78,7 +78,7 @@ class Method:
                     f"is {scene.dim}D.")
         if getattr(scene, "detonation", None) is not None and not self.detonations:
             return (f"method {self.name} models an ideal gas only, and {scene.name} holds a charge of JWL detonation "
-                    "products: run it with method fv, or (a surface burst) with charge=balloon.")
+                    "products: run it with method fv or sph, or (a surface burst) with charge=balloon.")
         return None
 
     def checked(self, scene, given: dict) -> Settings:

@@ -142,7 +142,7 @@ class Coupling:
         _, v, rho, u, H, _ = self.boundary(W, x, m)
         n = x.shape[0]
         return Particles(x=x, v=v, u=u, m=m, H=H, alpha=np.full(n, self.switches.alpha_min), alpha_u=np.zeros(n),
-                         rho=rho)
+                         rho=rho, products=np.zeros(n, bool))
 
     def free_axes(self, inside: np.ndarray) -> np.ndarray:
         """Per axis x[, y]: whether the particle cells ``inside`` (field
@@ -179,7 +179,8 @@ class Coupling:
         m = rho * self.volume / self.lattice_count
         n = x.shape[0]
         return Particles(x=x, v=v, u=u, m=m, H=self.eta * (m / rho) ** (1.0 / self.dim),
-                         alpha=np.full(n, self.switches.alpha_min), alpha_u=np.zeros(n), rho=rho)
+                         alpha=np.full(n, self.switches.alpha_min), alpha_u=np.zeros(n), rho=rho,
+                         products=np.zeros(n, bool))
 
     def regrouped(self, U, P: Particles | None, xb, mb, owned_before) -> State:
         """The state after the cells are flagged anew from ``U`` (a cell

@@ -138,8 +138,9 @@ def time_to_accuracy(method: str) -> list[dict]:
     return records
 
 
-#: sod cell sizes of a cold-process run (:func:`cold_process`): the first, then one not run before
-COLD_DX = (5e-3, 4e-3)
+#: sod cell sizes of a cold-process run (:func:`cold_process`): the first, then one not run before (240 cells:
+#: hybrid's coarse cells, four of these, must tile the tube too)
+COLD_DX = (5e-3, 1.0 / 240)
 
 
 def cold_process(method: str) -> dict:

@@ -105,8 +105,8 @@ def test_an_initiation_point_outside_the_charge_is_refused_in_one_sentence():
 
 @pytest.mark.parametrize("method, message", [
     ("dsmc", r"^method dsmc models an ideal gas only, and detonation_1d holds a charge of JWL detonation products: "
-             r"run it with method fv, or \(a surface burst\) with charge=balloon\.$"),
-    ("sph", r"^method sph models an ideal gas only, and detonation_1d holds"),
+             r"run it with method fv or sph, or \(a surface burst\) with charge=balloon\.$"),
+    ("hybrid", r"^method hybrid models an ideal gas only, and detonation_1d holds"),
 ])
 def test_a_method_without_detonation_products_refuses_a_charge_in_one_sentence(method, message):
     with pytest.raises(InputError, match=message):

@@ -98,7 +98,7 @@ def _particles(n, dim, seed=0):
     rng = np.random.default_rng(seed)
     return Particles(x=rng.uniform(0.0, 1.0, (n, dim)), v=rng.normal(0.0, 1.0, (n, dim)), u=rng.uniform(1.0, 2.0, n),
                      m=rng.uniform(0.5, 1.5, n), H=np.full(n, 0.1), alpha=np.zeros(n), alpha_u=np.zeros(n),
-                     rho=np.ones(n))
+                     rho=np.ones(n), products=np.zeros(n, bool))
 
 
 def test_cells_are_relaid_when_thinned_out_or_holding_an_expanded_heavy_particle():

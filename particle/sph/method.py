@@ -66,15 +66,18 @@ class SPHSettings(SPHScheme):
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
 
     def scene_defaults(self, scene) -> dict:
-        axisymmetric = scene.geometry == "axisymmetric"
+        lattice = scene.geometry == "axisymmetric" or scene.detonation is not None
         return {**super().scene_defaults(scene),
-                "masses": ("lattice" if axisymmetric else "equal") if self.masses is None else self.masses}
+                "masses": ("lattice" if lattice else "equal") if self.masses is None else self.masses}
 
     def check_together(self, scene) -> None:
         super().check_together(scene)
         if self.masses == "equal" and scene.geometry == "axisymmetric":
             raise InputError(f"masses='equal' runs planar scenes; {scene.name} is axisymmetric, where sph places "
                              "ring masses on the lattice (masses='lattice').")
+        if self.masses == "equal" and scene.detonation is not None:
+            raise InputError(f"masses='equal' runs scenes of one gas; {scene.name} holds detonation products, which "
+                             "sph places on the lattice (masses='lattice').")
         if self.masses == "lattice" and has_inlet(scene):
             raise InputError(f"masses='lattice' runs scenes without an inflow side; {scene.name} has one.")
 
@@ -85,4 +88,4 @@ def memory(scene, settings: SPHSettings) -> Memory:
 
 
 METHOD = Method("sph", "gas", SPHSettings, memory, "partmesh.particle.sph.solve:solve",
-                geometries=("planar", "axisymmetric"))
+                geometries=("planar", "axisymmetric"), detonations=True)

@@ -225,3 +225,6 @@ def check_supported(scene):
     for side in scene.sides:
         if isinstance(scene.boundaries[side], Inflow) and side != "x_lo":
             raise Unsupported(f"scene {scene.name}: sph has inflow buffers on side x_lo only, not {side}.")
+    if scene.detonation is not None and scene.obstacles:
+        raise Unsupported(f"scene {scene.name}: sph carries detonation products in scenes without obstacles only "
+                          "(the obstacles' virtual particles hold air).")

@@ -30,6 +30,7 @@ from partmesh.particle.sph.density import density_and_support
 from partmesh.particle.sph.forces import rates
 from partmesh.particle.sph.integrator import SEARCH_SLACK
 from partmesh.particle.sph.lists import PerParticle, VerletLists
+from partmesh.particle.sph.materials import Materials
 from partmesh.particle.sph.method import has_inlet
 from partmesh.particle.sph.sampling import shepard_on_grid
 from partmesh.particle.sph.wall_placement import in_box
@@ -45,7 +46,8 @@ class Particles(PerParticle):
     ``rho`` is the summation density of the last evaluation, which the
     walls' virtual particles are extrapolated from. In an axisymmetric
     scene ``m`` are ring masses and ``rho`` is η, the mass per area of the
-    r–z plane (:meth:`GasSPH.gas_density` gives ρ)."""
+    r–z plane (:meth:`GasSPH.gas_density` gives ρ). ``products`` is True for
+    the particles of detonation products (:mod:`~partmesh.particle.sph.materials`)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -55,6 +57,7 @@ class Particles(PerParticle):
     alpha: np.ndarray
     alpha_u: np.ndarray
     rho: np.ndarray
+    products: np.ndarray
 
     def keep(self, mask):
         """Drop the particles where ``mask`` is False."""
@@ -93,6 +96,7 @@ class GasSPH:
         self.seconds = dict.fromkeys(("density", "forces"), 0.0)
         self.force_interactions = 0
         self.kind = kernels.KERNELS[kernel]
+        self.materials = Materials.of(scene)
         self.dim = scene.dim
         self.axisymmetric = scene.geometry == "axisymmetric"
         self.lo = np.array([lo for lo, _ in scene.domain])
@@ -175,23 +179,45 @@ class GasSPH:
         if ring is not None:
             rho_all[x_real.shape[0]:] *= ring
         p = (gamma - 1.0) * rho_all * u_all
+        held = None
         with np.errstate(invalid="ignore"):  # a negative energy: NaN rates, which the step reports with where
+            if self.materials.holds_products(P.products):  # P = η p/ρ (a ghost's p/ρ its source's)
+                held, per_density, c_held = self.products_state(P.products, x_real, rho, H, u, src)
+                p[held] = rho_all[held] * per_density[held]
             if self.axisymmetric:  # P = (γ − 1) η u, times Φ (axis.py)
                 axis = axis_factors(x_real[:, 0], real[1], self.kind)
                 p *= np.concatenate([axis.grad_h, axis.grad_h[src]])
                 c = np.sqrt(gamma * (gamma - 1.0) * u_all)
             else:
                 c = np.sqrt(gamma * p / rho_all)
+        if held is not None:
+            c[held] = c_held[held]
         t0 = _time.perf_counter()
         *derived, interactions = rates(X3, self.verlet.box, self.verlet.half, lists.v, m, u_all, rho_all, p, c,
                                        omega_all, H_all, alpha_all, alpha_u_all, offsets, index, self.kind, dim, n,
                                        numba.get_num_threads())
         E = Evaluation(rho, H, *derived)
         if self.axisymmetric:
-            _add_hoop_terms(E, axis, v[:, 0], u, gamma)
+            p_over_rho = (gamma - 1.0) * u
+            if held is not None:
+                p_over_rho[P.products] = per_density[:n][P.products]
+            _add_hoop_terms(E, axis, v[:, 0], p_over_rho)
         self.seconds["forces"] += _time.perf_counter() - t0
         self.force_interactions += int(interactions)
         return E
+
+    def products_state(self, products, x_real, rho, H, u, src) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(held, p/ρ, c)`` over the fluid, imposed and ghost particles of one evaluation: the mask of those
+        holding detonation products (a ghost its source's), their pressure per gas density and sound speed
+        from the JWL equation of state at their gas density (:meth:`gas_density` of the summation density
+        ``rho`` and support ``H`` of the fluid particles at ``x_real``, energy ``u``), zero elsewhere."""
+        n, total = products.shape[0], x_real.shape[0]
+        k = np.flatnonzero(products)
+        per_density, c = np.zeros(total), np.zeros(total)
+        per_density[k], c[k] = self.materials.products_state(self.gas_density(x_real[k], H[k], rho[k]), u[k])
+        held = np.zeros(total, bool)
+        held[:n] = products
+        return tuple(np.concatenate([a, a[src]]) for a in (held, per_density, c))
 
     @staticmethod
     def ghost_rings(x_real, lists) -> np.ndarray:
@@ -235,13 +261,14 @@ class GasSPH:
         return grids if self.dim == 2 else grids[:, 0]
 
 
-def _add_hoop_terms(E: Evaluation, axis, v_r, u, gamma: float) -> None:
+def _add_hoop_terms(E: Evaluation, axis, v_r, per_density) -> None:
     """Add to the planar rates ``E`` of η and ΦP what the axis adds
-    (:mod:`~partmesh.particle.sph.axis`): the hoop acceleration (γ − 1) u r̃'/r̃
-    along r, its work −(γ − 1) u r̃' v_r/r̃ in du/dt, and ∇·v = Φ ∇₂·v + r̃' v_r/r̃
-    (the first ``len(u)`` entries of ``axis`` are the fluid particles')."""
-    n = u.shape[0]
-    hoop = (gamma - 1.0) * u * axis.slope[:n] / axis.radius[:n]
+    (:mod:`~partmesh.particle.sph.axis`): the hoop acceleration (p/ρ) r̃'/r̃
+    along r, its work −(p/ρ) r̃' v_r/r̃ in du/dt, and ∇·v = Φ ∇₂·v + r̃' v_r/r̃
+    (``per_density`` p/ρ of the fluid particles, (γ − 1)u in air; the first
+    ``len(per_density)`` entries of ``axis`` are the fluid particles')."""
+    n = per_density.shape[0]
+    hoop = per_density * axis.slope[:n] / axis.radius[:n]
     E.dvdt[:, 0] += hoop
     E.dudt -= hoop * v_r
     E.div_v = axis.grad_h[:n] * E.div_v + axis.slope[:n] * v_r / axis.radius[:n]

@@ -27,6 +27,7 @@ from partmesh.particle.cell_grid import sort_order
 from partmesh.particle.march import march_particles
 from partmesh.particle.sph.inflow import InflowBuffer
 from partmesh.particle.sph.integrator import MIN_STEP_FRACTION, Switches, Unstable, leapfrog, time_step
+from partmesh.particle.sph.materials import charged_state
 from partmesh.particle.sph.method import SPHSettings, has_inlet
 from partmesh.particle.sph.particles import (
     check_supported,
@@ -152,7 +153,9 @@ def _snapshot(sph, P: Particles, inflow, t: float) -> xr.Dataset:
     x, v, rho, u, H, m = (np.concatenate(parts) for parts in list(zip(*groups))[:6])
     rho = sph.gas_density(x, H, rho)
     kind = np.concatenate([np.full(g[0].shape[0], g[6], np.int8) for g in groups])
-    return particle_snapshot(x, v, rho, (gamma - 1.0) * rho * u, m, H, kind, KINDS, sph.scene.name, "sph", t)
+    products = np.concatenate([P.products, np.zeros(x.shape[0] - P.x.shape[0], bool)])
+    return particle_snapshot(x, v, rho, sph.materials.pressure(rho, u, products), m, H, kind, KINDS, sph.scene.name,
+                             "sph", t)
 
 
 def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Particles:
@@ -165,13 +168,21 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
         x, mass = place_lattice(scene, dx, box)
     else:
         x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
+    y = None if dim == 1 else x[:, 1]
     rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
-                      for a in scene.initial(x[:, 0], None if dim == 1 else x[:, 1], dx))
+                      for a in scene.initial(x[:, 0], y, dx))
     n = x.shape[0]
+    products = np.zeros(n, bool)
+    if scene.detonation is None:
+        u = p / ((gamma - 1.0) * rho)
+    else:  # (the lattice's masses were the air's: each particle carries its cell's mixture)
+        rho_air = rho
+        rho, u, products = charged_state(scene, x[:, 0], y, dx, rho_air, p)
+        mass = mass * (rho / rho_air)
     summed = mass / dx ** 2 if scene.geometry == "axisymmetric" else rho
-    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=p / ((gamma - 1.0) * rho), m=np.broadcast_to(mass, n).copy(),
+    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=u, m=np.broadcast_to(mass, n).copy(),
                      H=eta * (mass / summed) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
-                     rho=summed)
+                     rho=summed, products=products)
 
 
 def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: float) -> Particles:
@@ -182,10 +193,10 @@ def _entering(inflow, t: float, dt: float, eta: float, mass: float, alpha_min: f
     _, bv, brho, bu, bH = inflow.particles(t + dt, eta)
     k = x.shape[0]
     if k == 0:
-        return Particles(x, np.zeros((0, x.shape[1])), *(np.zeros(0) for _ in range(6)))
+        return Particles(x, np.zeros((0, x.shape[1])), *(np.zeros(0) for _ in range(6)), np.zeros(0, bool))
     return Particles(x=x, v=np.tile(bv[:1], (k, 1)), u=np.full(k, bu[0]), m=np.full(k, mass),
                      H=np.full(k, bH[0]), alpha=np.full(k, alpha_min), alpha_u=np.zeros(k),
-                     rho=np.full(k, brho[0]))
+                     rho=np.full(k, brho[0]), products=np.zeros(k, bool))
 
 
 def _buffer(inflow, t: float, eta: float, mass: float):
@@ -228,7 +239,7 @@ def _sample_points(scene) -> np.ndarray:
 
 def _pressure_at(sph, P, E, points) -> np.ndarray:
     """Pressure interpolated at ``points`` (n_points, dim)."""
-    p = (sph.scene.gamma - 1.0) * sph.gas_density(P.x, E.H, E.rho) * P.u
+    p = sph.materials.pressure(sph.gas_density(P.x, E.H, E.rho), P.u, P.products)
     return shepard_at_points(points, P.x, p, P.m / E.rho, E.H, sph.kind, sph.dim, numba.get_num_threads())
 
 
@@ -267,7 +278,9 @@ class _Run(RunRecord):
         P, E = state
         scene = self.scene
         rho = self.sph.gas_density(P.x, E.H, E.rho)
-        values = {"rho": rho, "u": P.v[:, 0], "p": (scene.gamma - 1.0) * rho * P.u, "e": P.u}
+        values = {"rho": rho, "u": P.v[:, 0], "p": self.sph.materials.pressure(rho, P.u, P.products), "e": P.u}
+        if "Y" in scene.fields:  # the products' mass fraction
+            values["Y"] = P.products.astype(float)
         if scene.dim == 2:
             values["v"] = P.v[:, 1]
         axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
@@ -286,7 +299,9 @@ class _Run(RunRecord):
                   + (", skew-gradient obstacle walls (wall + virtual particles, slip)" if self.solid is not None else "")
                   + (", axisymmetric: ring masses on the r-z lattice, mirror ghosts across the axis, the density "
                      "eta / (2 pi (r + 2 H J(r/H))) near it and the hoop terms (Garcia-Senz et al. 2009)"
-                     if self.sph.axisymmetric else ""))
+                     if self.sph.axisymmetric else "")
+                  + (f", two materials: air and {self.sph.materials.explosive.name} detonation products (JWL) on the "
+                     "particles that carry them" if self.sph.materials.explosive is not None else ""))
         attrs = {"deposition": "Shepard (kernel-normalised) interpolation with the particles' own kernel and H",
                  "wall_reflections": self.reflections, "force_interactions": self.sph.force_interactions,
                  "neighbour_searches": self.sph.counters[1],

@@ -126,7 +126,8 @@ def table(runs: dict) -> pd.DataFrame:
 #: finest darkest
 FAMILIES = {("fv", "axisymmetric", False): "Blues", ("fv", "spherical", False): "Greens",
             ("sph", "axisymmetric", False): "Oranges", ("dsmc", "axisymmetric", False): "Purples",
-            ("fv", "spherical", True): "Reds", ("fv", "axisymmetric", True): "RdPu"}
+            ("fv", "spherical", True): "Reds", ("fv", "axisymmetric", True): "RdPu",
+            ("sph", "axisymmetric", True): "YlOrBr"}
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">")
 
 
