@@ -47,8 +47,8 @@ from partmesh.gridref.euler.boundaries import N_GHOST, SchemeAxes, with_ghosts
 from partmesh.gridref.euler.mixture import burnt
 from partmesh.gridref.euler.reconstruct import LIMITERS, limited_slopes
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
-from partmesh.gridref.euler.state import (density_scalars, internal_energy, parts, primitive, rotated, scalar_count,
-                                          sound_speed, stiffness)
+from partmesh.gridref.euler.state import (density_scalars, first_scalar, internal_energy, parts, primitive, rotated,
+                                          scalar_count, sound_speed, stiffness)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION, RadialTable, Rings, revolved
 from partmesh.gridref.staging import staged
@@ -150,13 +150,24 @@ def ghosted_primitive(U, states, scheme: Scheme, fill_solids=None):
 
 def slopes_of(Wg, scheme: Scheme):
     """Limited slopes along every direction on the interior plus one ghost
-    layer (a list over directions of tuples over variables)."""
+    layer (a list over directions of tuples over variables). Of a mixture,
+    the density's slope is the sum of the materials' partial densities'
+    limited apart (ρ = ρY + (ρ − ρY)): a cell of one material then keeps
+    the other's partial density zero on its faces, which limiting ρ and ρY
+    apart does not (Johnsen & Colonius 2006, J. Comput. Phys. 219, 715,
+    reconstruct the partial densities)."""
     axes = scheme.axes
     limiter = LIMITERS[scheme.limiter]
-    return [
-        tuple(cropped(limited_slopes(a, axes[d], limiter), [b for b in axes if b != axes[d]], N_GHOST - 1) for a in Wg)
-        for d in range(scheme.dim)
-    ]
+
+    def limited(a, d):
+        return cropped(limited_slopes(a, axes[d], limiter), [b for b in axes if b != axes[d]], N_GHOST - 1)
+
+    slopes = [[limited(a, d) for a in Wg] for d in range(scheme.dim)]
+    if scheme.mixture is not None:
+        k = first_scalar(Wg, scheme.gas)
+        for d in range(scheme.dim):
+            slopes[d][0] = limited(Wg[0] - Wg[k], d) + slopes[d][k]
+    return [tuple(s) for s in slopes]
 
 
 def half_step(Wg, slopes, dt, scheme: Scheme, allowed=None, rings: Rings | None = None):
