@@ -15,6 +15,7 @@ import numba
 import numpy as np
 import xarray as xr
 
+from partmesh.cases.ball import ring_volumes
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_obstacles
 from partmesh.cases.compiling import compiling
@@ -176,9 +177,8 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
     if scene.detonation is None:
         u = p / ((gamma - 1.0) * rho)
     else:  # (the lattice's masses were the air's: each particle carries its cell's mixture)
-        rho_air = rho
-        rho, u, products = charged_state(scene, x[:, 0], y, dx, rho_air, p)
-        mass = mass * (rho / rho_air)
+        rho, u, products = charged_state(scene, x[:, 0], y, dx, rho, p)
+        mass = rho * (ring_volumes(x[:, 0], dx) if scene.geometry == "axisymmetric" else dx ** dim)
     summed = mass / dx ** 2 if scene.geometry == "axisymmetric" else rho
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=u, m=np.broadcast_to(mass, n).copy(),
                      H=eta * (mass / summed) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
