@@ -314,7 +314,10 @@ def remapped(scene: Scene, sphere) -> Scene:
             if not products:
                 kept[key] = (rho_c, u_r, u_z, (gamma - 1.0) * rho_e, None, None)
             else:
-                rho_y, alpha = mean["products"], np.clip(mean["volume"], 0.0, 1.0)
+                # (a cell without air mass is products only: its volume fraction, advected apart from the
+                # masses, may fall short of 1 by rounding, ~1e-11, which would leave air of zero density)
+                rho_y = mean["products"]
+                alpha = np.where(rho_c > rho_y, np.clip(mean["volume"], 0.0, 1.0), 1.0)
                 kept[key] = (rho_c, u_r, u_z, mixture.pressure(rho_c, (rho_y, rho_y, alpha), rho_e), rho_y, alpha)
         return kept[key]
 

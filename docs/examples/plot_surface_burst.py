@@ -14,7 +14,8 @@ in free air that the hemisphere mirrors, the same flow in 1D. The r–z run
 here uses 4 cm cells to stay short; ``studies/surface_burst`` holds the
 1 cm level and the particle methods. ``charge="jwl"`` replaces the balloon
 by TNT itself, detonated from its centre, its products following the JWL
-equation of state (1D, ``fv``).
+equation of state (``fv`` in 1D and r–z; ``sph`` in r–z, its particles
+carrying the products the remapped sphere holds).
 """
 
 import json
