@@ -2,7 +2,11 @@
 tests that call grid kernels without a run; and the particle methods' kernels
 compiled side by side before the test workers start."""
 
+import dataclasses
 from pathlib import Path
+
+import numpy as np
+import pytest
 
 import partmesh as pm
 from partmesh.gridref.jax_setup import configure_jax
@@ -32,3 +36,22 @@ def pytest_sessionstart(session):
     if any(Path(arg.split("::")[0]).is_file() for arg in config.args):
         return
     pm.warm(WARM_PLAN)
+
+
+@pytest.fixture
+def products_tube():
+    """A products–air shock tube: TNT's products at 1 000 kg/m³ and 5 GPa filling 0.25 ≤ x ≤ 0.5 of
+    ``products_contact``'s periodic tube, air at 50 kg/m³ and 50 MPa elsewhere, at rest, to 60 µs — two shocks
+    into the air, two rarefactions into the products that meet at the slab's centre (where the JWL terms are a
+    third of the pressure); ``products_tube(nx_out, **changes)`` the scene on ``nx_out`` output cells with
+    ``changes`` (``dataclasses.replace``)."""
+
+    def initial(x, y, dx):
+        return 50.0, 0.0, 0.0, np.where((x >= 0.25) & (x <= 0.5), 5e9, 5e7)
+
+    def made(nx_out, **changes):
+        scene = pm.scene("products_contact", t_end=6e-5, u=0.0, rho_products=1000.0, rho_air=50.0, p=5e7,
+                         nx_out=nx_out)
+        return dataclasses.replace(scene, initial=initial, measure=None, **changes)
+
+    return made

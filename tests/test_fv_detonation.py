@@ -79,21 +79,15 @@ def test_a_products_air_contact_keeps_its_pressure_and_velocity_and_stays_sharp(
     assert float(Y.sel(x=0.875, method="nearest")) == pytest.approx(0.0, abs=1e-12)
 
 
-def test_products_expanding_into_air_stay_pure_behind_their_contacts():
-    """Products at 1 000 kg/m³ and 5 GPa filling 0.25 ≤ x ≤ 0.5 of a periodic tube, air at 50 kg/m³ and 50 MPa
-    elsewhere, at rest: after 60 µs the products have expanded to 0.07 ≤ x ≤ 0.68. Every cell the products
-    fill (α > 0.99) holds products only (Y > 0.999: the partial densities are reconstructed apart, so no air
-    mass rides on faces without air volume), and the pressure falls from the slab's centre through each
-    rarefaction to the contact, monotone but for MUSCL's dip of 1.5 % at the rarefaction's tail. (Limiting ρ
-    and ρY apart left air in the products, Y down to 0.27, and pressure spikes twice the rarefaction's where
-    the slab's edges started.)"""
-    scene = pm.scene("products_contact", t_end=6e-5, u=0.0, rho_products=1000.0, rho_air=50.0, p=5e7, nx_out=400)
-
-    def initial(x, y, dx):
-        return 50.0, 0.0, 0.0, np.where((x >= 0.25) & (x <= 0.5), 5e9, 5e7)
-
-    ds = pm.run(dataclasses.replace(scene, initial=initial, measure=None, fields=("rho", "u", "p", "e", "Y", "alpha")),
-                "fv", dx=5e-4, progress=False).isel(time=-1)
+def test_products_expanding_into_air_stay_pure_behind_their_contacts(products_tube):
+    """The products–air shock tube (``products_tube``, conftest): after 60 µs the products have expanded to
+    0.07 ≤ x ≤ 0.68. Every cell the products fill (α > 0.99) holds products only (Y > 0.999: the partial
+    densities are reconstructed apart, so no air mass rides on faces without air volume), and the pressure
+    falls from the slab's centre through each rarefaction to the contact, monotone but for MUSCL's dip of
+    1.5 % at the rarefaction's tail. (Limiting ρ and ρY apart left air in the products, Y down to 0.27, and
+    pressure spikes twice the rarefaction's where the slab's edges started.)"""
+    ds = pm.run(products_tube(400, fields=("rho", "u", "p", "e", "Y", "alpha")), "fv", dx=5e-4,
+                progress=False).isel(time=-1)
     x, p, Y, alpha = (np.asarray(ds[f]) for f in ("x", "p", "Y", "alpha"))
     products = alpha > 0.99
     assert 0.05 < x[products].min() < 0.1 and 0.65 < x[products].max() < 0.7

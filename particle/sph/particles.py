@@ -121,7 +121,13 @@ def place_lattice(scene, dx: float, box) -> tuple[np.ndarray, np.ndarray]:
         x = off_surface(scene.obstacles, x, 0.5 * dx)
     rho = np.broadcast_to(np.asarray(scene.initial(x[:, 0], x[:, 1] if scene.dim == 2 else None, dx)[0], float),
                           x[:, 0].shape)
-    return x, rho * (ring_volumes(x[:, 0], dx) if scene.geometry == "axisymmetric" else dx ** scene.dim)
+    return x, rho * lattice_volumes(scene, x, dx)
+
+
+def lattice_volumes(scene, x, dx: float):
+    """The volume of the lattice cell about each point ``x``: dx^d, or the ring cell's 2π r dx² in an
+    axisymmetric scene (:func:`partmesh.cases.ball.ring_volumes`)."""
+    return ring_volumes(x[:, 0], dx) if scene.geometry == "axisymmetric" else dx ** scene.dim
 
 
 def _rows(scene, dx: float, box, ny: int) -> tuple[np.ndarray, float]:

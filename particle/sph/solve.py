@@ -15,7 +15,6 @@ import numba
 import numpy as np
 import xarray as xr
 
-from partmesh.cases.ball import ring_volumes
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.checks import check_obstacles
 from partmesh.cases.compiling import compiling
@@ -33,6 +32,7 @@ from partmesh.particle.sph.method import SPHSettings, has_inlet
 from partmesh.particle.sph.particles import (
     check_supported,
     extended_domain,
+    lattice_volumes,
     outflow_reach,
     place_1d,
     place_2d,
@@ -178,7 +178,7 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
         u = p / ((gamma - 1.0) * rho)
     else:  # (the lattice's masses were the air's: each particle carries its cell's mixture)
         rho, u, products = charged_state(scene, x[:, 0], y, dx, rho, p)
-        mass = rho * (ring_volumes(x[:, 0], dx) if scene.geometry == "axisymmetric" else dx ** dim)
+        mass = rho * lattice_volumes(scene, x, dx)
     summed = mass / dx ** 2 if scene.geometry == "axisymmetric" else rho
     return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=u, m=np.broadcast_to(mass, n).copy(),
                      H=eta * (mass / summed) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
