@@ -57,7 +57,9 @@ class Hierarchy(NamedTuple):
     (active, halo); ``dt_limit``: the
     largest step of level 0 the next may take, however stable
     (:data:`GROWTH` times the last); ``peak``: the most active blocks each
-    level has held, and (last) the most all levels have held at once."""
+    level has held, and (last) the most all levels have held at once;
+    ``steps``: the steps of level 0 taken (the regrids fall on multiples
+    of their interval)."""
 
     U: tuple
     old: tuple
@@ -71,6 +73,7 @@ class Hierarchy(NamedTuple):
     need: jnp.ndarray
     dt_limit: jnp.ndarray
     peak: jnp.ndarray
+    steps: jnp.ndarray
 
 
 #: the fields of a :class:`Hierarchy` that hold one entry per level
@@ -204,7 +207,7 @@ class Levels:
                 means = [jax.vmap(restricted)(a[chunk], volumes) for a in U_fine]
             return tuple(c.ravel().at[index].set(m, mode="drop").reshape(c.shape) for c, m in zip(U_coarse, means))
 
-        return over_chunks(ids, count, restrict, U_coarse)
+        return over_chunks(ids, count, restrict, U_coarse, self.layout.cells_per_block)
 
     def _coarse_windows(self, U_coarse, old_coarse, theta, fine: int, ids, imposed=None):
         """The coarse footprints of the fine blocks ``ids`` with one cell
@@ -269,7 +272,7 @@ class Levels:
                 U = tuple(u.at[cells].set(c, mode="drop") for u, c in zip(U, children))
             return U
 
-        return over_chunks(ids, count, fill, U_fine)
+        return over_chunks(ids, count, fill, U_fine, self.layout.cells_per_block)
 
     def refluxed(self, U_coarse, flux_coarse, register, maps_fine, fine: int, ids, count):
         """``U_coarse`` with every coarse cell next to a fine block of ``ids``
@@ -339,7 +342,7 @@ class Levels:
             return self.with_blocks(U, chunk, self.prolonged_blocks(U_coarse, old_coarse, theta, fine, chunk,
                                                                     imposed))
 
-        return over_chunks(ids, count, fill, U_fine)
+        return over_chunks(ids, count, fill, U_fine, self.layout.cells_per_block)
 
     def halo_filled(self, H: Hierarchy, fine: int, theta, imposed=None) -> Hierarchy:
         """``H`` with the halo blocks of level ``fine`` prolonged from the
@@ -381,23 +384,30 @@ class Levels:
             return tuple(hit.at[index].set(children > threshold, mode="drop")
                          for hit, threshold in zip(hits, thresholds))
 
-        hits = over_chunks(ids, count, flag, (jnp.zeros(size, bool),) * 2)
+        hits = over_chunks(ids, count, flag, (jnp.zeros(size, bool),) * 2, lay.cells_per_block)
         return tuple(hit.reshape(nb[::-1]) for hit in hits)
 
     def regridded(self, H: Hierarchy, imposed=None, forced: tuple | None = None,
-                  fill: bool = True) -> tuple[Hierarchy, jnp.ndarray]:
+                  fill: bool = True, due=True) -> tuple[Hierarchy, jnp.ndarray]:
         """``(H', short)``: every level's blocks set anew from the error
         estimates of the level below (``forced[l]``: a block map of level
         ``l`` that must be active, or None), the new blocks prolonged from
         the level below (unless not ``fill``: the caller sets them);
         ``short`` is True (and ``H'`` is ``H`` with ``need`` set) when a
-        block list is too short for them."""
+        block list is too short for them. Where the traced ``due`` is False,
+        ``H'`` is ``H`` (every loop of the regrid runs no pass)."""
         lay, L = self.layout, self.layout.levels
+        due = jnp.asarray(due, bool)
+
+        def listed(pair):  # (a block list as the regrid reads it: empty unless due)
+            return pair[0], jnp.where(due, pair[1], 0)
+
         for level in range(1, L - 1):  # the estimator reads one ghost layer: the halos, filled now
-            H = self.halo_filled(H, level, 1.0, imposed)
+            H = self.halo_filled(H._replace(halo=with_level(H.halo, level, listed(H.halo[level]))), level, 1.0,
+                                 imposed)._replace(halo=H.halo)
         maps = [H.maps[0]]
         for level in range(L - 1):
-            ids, count = H.active[level]
+            ids, count = listed(H.active[level])
             high, low = self.flags(H.U[level], level, ids, count, imposed)
             want = (blockmaps.dilated(high, lay.periodic, self.buffer)
                     | (H.maps[level + 1] & blockmaps.dilated(low, lay.periodic, self.buffer)))
@@ -416,7 +426,8 @@ class Levels:
             halo.append(h)
             need.append(jnp.stack([a[1], h[1]]))
             short = short | (a[1] > cap) | (h[1] > cap_halo)
-        need = jnp.stack(need)
+        need = jnp.where(due, jnp.stack(need), H.need)
+        short = short & due
 
         # the new blocks prolonged, unless a list is short (then none: the step halts, the lists grow and the
         # regrid is made again); chosen by selects on the lists and trip counts, not by a conditional, whose
@@ -425,12 +436,13 @@ class Levels:
         for level in range(1, L if fill else 1):
             fresh = maps[level] & ~H.maps[level]
             ids, count = blockmaps.listed(fresh, active[level][0].shape[0])
-            U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, jnp.where(short, 0, count), imposed)
+            U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, jnp.where(short | ~due, 0, count),
+                                   imposed)
         counts = jnp.stack([a[1] for a in active])
         peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
 
         def kept(new, old):
-            return jax.tree_util.tree_map(lambda a, b: jnp.where(short, b, a), new, old)
+            return jax.tree_util.tree_map(lambda a, b: jnp.where(short | ~due, b, a), new, old)
 
         H = H._replace(U=tuple(U), active=kept(tuple(active), H.active), halo=kept(tuple(halo), H.halo),
                        maps=kept(tuple(maps), H.maps), need=need, peak=kept(peak, H.peak))

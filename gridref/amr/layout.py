@@ -70,6 +70,10 @@ class Layout:
         """A block's cells in the field layout ``([y,] x)``."""
         return (self.block,) * self.dim
 
+    @property
+    def cells_per_block(self) -> int:
+        return self.block ** self.dim
+
     def face_shape(self, d: int) -> tuple[int, ...]:
         """A block's faces normal to axis ``d``, laid out ``([y,] x)``."""
         B = self.block

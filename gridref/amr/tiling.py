@@ -49,25 +49,29 @@ def windowed(a, rows: int, n: int, h: int, sizes: tuple[int, ...]):
     return a.transpose(0, 2, 1, 3).reshape(n, *sizes)
 
 
-#: blocks advanced together (tiled side by side): enough cells for the kernels to run at a whole grid's
-#: speed, few enough that a level with few active blocks does little more than they need
-CHUNK = 32
+#: cells of the blocks advanced together (tiled side by side): enough for the kernels to run near a whole grid's
+#: speed, few enough that the last chunk of a level, which the level's blocks fill only in part, wastes little
+#: (32 blocks of 16², 8 of 32²: a chunk costs about as much as 2.4 blocks of 32² over its blocks' own, measured
+#: on a MUSCL-Hancock step of a refined 2D Sedov blast)
+CHUNK_CELLS = 8192
 
 
-def chunk_for(n: int) -> int:
-    """The blocks of a chunk for a list of ``n`` blocks: the largest divisor
-    of ``n`` up to :data:`CHUNK`."""
-    return max(d for d in range(1, min(n, CHUNK) + 1) if n % d == 0)
+def chunk_for(n: int, block_cells: int) -> int:
+    """The blocks of a chunk for a list of ``n`` blocks of ``block_cells``
+    cells: the largest divisor of ``n`` whose blocks hold at most
+    :data:`CHUNK_CELLS` cells (one block at least)."""
+    most = max(1, CHUNK_CELLS // block_cells)
+    return max(d for d in range(1, min(n, most) + 1) if n % d == 0)
 
 
-def over_chunks(ids, count, body, carry):
+def over_chunks(ids, count, body, carry, block_cells: int):
     """``carry`` passed through ``body(chunk, carry)`` for every chunk of
-    :func:`chunk_for` ids of the list ``ids`` that holds any of its first
-    ``count`` (a traced number): a loop whose trip count follows the
-    blocks listed, not the list's capacity. The ids past ``count`` in the
-    last chunk are the list's padding (one past the last block), which
-    gathers clamp and scatters drop."""
-    K = chunk_for(ids.shape[0])
+    :func:`chunk_for` ids of the list ``ids`` (blocks of ``block_cells``
+    cells) that holds any of its first ``count`` (a traced number): a loop
+    whose trip count follows the blocks listed, not the list's capacity.
+    The ids past ``count`` in the last chunk are the list's padding (one
+    past the last block), which gathers clamp and scatters drop."""
+    K = chunk_for(ids.shape[0], block_cells)
 
     def step(c, carry):
         return body(jax.lax.dynamic_slice_in_dim(ids, c * K, K), carry)

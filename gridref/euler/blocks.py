@@ -27,7 +27,8 @@ from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.cut_blocks import CutBlocks
 from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_divergence, flux_update, half_step,
-                                         slopes_of, stable_dt, vacuum_floored, with_fallbacks)
+                                         scratch_like, slopes_of, stable_dt, vacuum_floored,
+                                         with_fallbacks)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION
 from partmesh.gridref.staging import staged
@@ -117,7 +118,7 @@ class LevelStepper:
         lay, scheme, gamma, levels = self.layout, self.schemes[level], self.gamma, self.levels
         ids, count = H.active[level]
         n, B = ids.shape[0], lay.block
-        K = chunk_for(n)
+        K = chunk_for(n, lay.cells_per_block)
         rows, h = rows_for(K), B + 2 * N_GHOST
         valid = jnp.arange(n) < count
         fluid = jnp.broadcast_to(valid.reshape((n,) + (1,) * lay.dim), (n, *lay.block_shape))
@@ -211,7 +212,7 @@ class LevelStepper:
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
             return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
-        start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()),
+        start = (scratch_like(U0), jnp.zeros(()),
                  [tuple(jnp.zeros((n, *lay.edge_shape)) for _ in U0) for _ in range(lay.dim)],
                  H.flux[level] if stores_fluxes else ())
         (U_new, dt_next, faces, stored), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),

@@ -4,7 +4,8 @@ Level 0 covers the domain at ``dx · 2^(levels−1)``; every finer level
 halves the spacing where Löhner's estimate of the level below passes the
 ``refine`` threshold (:mod:`partmesh.gridref.amr.sensor`), with a buffer
 of blocks wide enough that a front cannot leave the finest level before
-the next regrid, at the start of every step of level 0. The step of level
+the next regrid, at the start of every few steps of level 0 (as many as
+the buffer covers, at most :data:`REGRID_INTERVAL`). The step of level
 0 subcycles every finer level (:mod:`partmesh.gridref.amr.subcycle`), each
 level advanced by the MUSCL–Hancock step of its active blocks
 (:mod:`partmesh.gridref.euler.blocks`); whole stretches of such steps run
@@ -63,6 +64,9 @@ class Refined:
         #: blocks added around the flagged ones: a front moves at most cfl cells a step on every level, and a
         #: level l takes 2^l steps between two regrids
         buffer = max(1, math.ceil(settings.cfl * (1 << (L - 1)) / lay.block))
+        #: steps of level 0 between two regrids: as many as the buffer covers (the finest level's front moves at
+        #: most cfl · 2^(L−1) of its cells a step of level 0), at most :data:`REGRID_INTERVAL`
+        self.interval = max(1, min(REGRID_INTERVAL, int(buffer * lay.block // (settings.cfl * (1 << (L - 1))))))
         immersed = immersed_for(scene, solver_grid(scene.domain, settings.dx))
         #: the bodies' cut cells on the finest level, whose blocks that meet them are always active
         self.cut = None if immersed is None else CutBlocks(immersed, lay, L - 1)
@@ -107,7 +111,7 @@ class Refined:
         short. A halted step is the step of a hierarchy with no block listed
         (every loop runs no pass, every scatter drops), not a conditional,
         whose branches would copy every level's storage in and out."""
-        H, short = self.levels.regridded(H, self.imposed(t), self.forced)
+        H, short = self.levels.regridded(H, self.imposed(t), self.forced, due=H.steps % self.interval == 0)
         lay = self.layout
 
         def idle(lists):
@@ -118,7 +122,8 @@ class Refined:
                                                                 t, dt)
         dt_next = jnp.where(short, dt, jnp.minimum(dt_next, H.dt_limit))
         # (an idle step adds no cell updates and no floors: only the lists and the step's limit are put back)
-        H = moved._replace(active=H.active, halo=H.halo, dt_limit=jnp.where(short, H.dt_limit, GROWTH * dt_next))
+        H = moved._replace(active=H.active, halo=H.halo, dt_limit=jnp.where(short, H.dt_limit, GROWTH * dt_next),
+                           steps=jnp.where(short, H.steps, H.steps + 1))
         return H, dt_next, probes, forces, short
 
     def first_dt(self, H: Hierarchy) -> float:
@@ -210,7 +215,7 @@ class Refined:
                  for level in range(1, L)]
         H = Hierarchy(U=U, old=old, flux=flux, register=(), active=tuple(active), halo=tuple(halo), maps=maps,
                       floors=jnp.zeros(3), updates=jnp.zeros(()), need=jnp.zeros((L, 2), jnp.int32),
-                      dt_limit=jnp.asarray(jnp.inf), peak=jnp.zeros(L + 1, jnp.int32))
+                      dt_limit=jnp.asarray(jnp.inf), peak=jnp.zeros(L + 1, jnp.int32), steps=jnp.zeros((), jnp.int32))
         return with_capacity(H, caps, halo_caps, lay)
 
 
@@ -235,6 +240,11 @@ def with_capacity(H: Hierarchy, caps, halo_caps, lay: Layout) -> Hierarchy:
     register = ((),) + tuple(tuple(tuple(jnp.zeros((caps[level], *lay.edge_shape)) for _ in range(lay.dim + 2))
                                    for _ in range(lay.dim)) for level in range(1, L))
     return H._replace(active=active, halo=halo, register=register)
+
+
+#: the most steps of level 0 between two regrids (AMReX's ``regrid_int`` is 2 by default; Berger & Colella regrid
+#: every few coarse steps): a feature that appears where no level is fine waits at most this long for one
+REGRID_INTERVAL = 4
 
 
 #: the blocks of a level small enough to be listed whole from the start (its lists never grow)
