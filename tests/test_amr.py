@@ -225,6 +225,7 @@ def test_every_block_at_the_finest_level_steps_as_the_uniform_grid_in_more_scene
     assert _forced_against_uniform(get(name, **overrides), dx, levels, 8) <= 1e-12
 
 
+@pytest.mark.full
 def test_every_block_at_the_finest_level_steps_as_the_uniform_grid_of_a_sphere():
     """A 1D sphere (k = 2) on three levels: face areas, volumes and the hoop
     term read per block at its global radius."""
