@@ -398,16 +398,15 @@ class Levels:
         ``H'`` is ``H`` (every loop of the regrid runs no pass)."""
         lay, L = self.layout, self.layout.levels
         due = jnp.asarray(due, bool)
-
-        def listed(pair):  # (a block list as the regrid reads it: empty unless due)
-            return pair[0], jnp.where(due, pair[1], 0)
-
+        # the block lists as the estimator reads them: empty unless due, so that its loops run no pass
+        read = H._replace(**{f: tuple((ids, jnp.where(due, count, 0)) for ids, count in getattr(H, f))
+                             for f in ("active", "halo")})
         for level in range(1, L - 1):  # the estimator reads one ghost layer: the halos, filled now
-            H = self.halo_filled(H._replace(halo=with_level(H.halo, level, listed(H.halo[level]))), level, 1.0,
-                                 imposed)._replace(halo=H.halo)
+            read = self.halo_filled(read, level, 1.0, imposed)
+        H = H._replace(U=read.U)
         maps = [H.maps[0]]
         for level in range(L - 1):
-            ids, count = listed(H.active[level])
+            ids, count = read.active[level]
             high, low = self.flags(H.U[level], level, ids, count, imposed)
             want = (blockmaps.dilated(high, lay.periodic, self.buffer)
                     | (H.maps[level + 1] & blockmaps.dilated(low, lay.periodic, self.buffer)))
@@ -428,6 +427,7 @@ class Levels:
             short = short | (a[1] > cap) | (h[1] > cap_halo)
         need = jnp.where(due, jnp.stack(need), H.need)
         short = short & due
+        unchanged = short | ~due  # (the lists, maps and blocks of H kept)
 
         # the new blocks prolonged, unless a list is short (then none: the step halts, the lists grow and the
         # regrid is made again); chosen by selects on the lists and trip counts, not by a conditional, whose
@@ -436,13 +436,13 @@ class Levels:
         for level in range(1, L if fill else 1):
             fresh = maps[level] & ~H.maps[level]
             ids, count = blockmaps.listed(fresh, active[level][0].shape[0])
-            U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, jnp.where(short | ~due, 0, count),
+            U[level] = self.filled(U[level], U[level - 1], None, 1.0, level, ids, jnp.where(unchanged, 0, count),
                                    imposed)
         counts = jnp.stack([a[1] for a in active])
         peak = jnp.maximum(H.peak, jnp.concatenate([counts, jnp.sum(counts, dtype=jnp.int32)[None]]))
 
         def kept(new, old):
-            return jax.tree_util.tree_map(lambda a, b: jnp.where(short | ~due, b, a), new, old)
+            return jax.tree_util.tree_map(lambda a, b: jnp.where(unchanged, b, a), new, old)
 
         H = H._replace(U=tuple(U), active=kept(tuple(active), H.active), halo=kept(tuple(halo), H.halo),
                        maps=kept(tuple(maps), H.maps), need=need, peak=kept(peak, H.peak))

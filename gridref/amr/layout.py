@@ -72,6 +72,7 @@ class Layout:
 
     @property
     def cells_per_block(self) -> int:
+        """The cells of a block."""
         return self.block ** self.dim
 
     def face_shape(self, d: int) -> tuple[int, ...]:
