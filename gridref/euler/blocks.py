@@ -27,8 +27,7 @@ from partmesh.gridref.euler.boundaries import N_GHOST
 from partmesh.gridref.euler.state import primitive
 from partmesh.gridref.euler.cut_blocks import CutBlocks
 from partmesh.gridref.euler.step import (Scheme, Stepper, face_flux, flux_divergence, flux_update, half_step,
-                                         scratch_like, slopes_of, stable_dt, vacuum_floored,
-                                         with_fallbacks)
+                                         slopes_of, stable_dt, vacuum_floored, with_fallbacks)
 from partmesh.gridref.grid import cropped
 from partmesh.gridref.revolution import REVOLUTION
 from partmesh.gridref.staging import staged
@@ -212,7 +211,7 @@ class LevelStepper:
             U, cells, mass, energy = vacuum_floored(U, gamma, fluid)
             return U, cfl_dt(U), cells, jnp.sum(mass * volume), jnp.sum(energy * volume)
 
-        start = (scratch_like(U0), jnp.zeros(()),
+        start = (tuple(jnp.zeros_like(u) for u in U0), jnp.zeros(()),
                  [tuple(jnp.zeros((n, *lay.edge_shape)) for _ in U0) for _ in range(lay.dim)],
                  H.flux[level] if stores_fluxes else ())
         (U_new, dt_next, faces, stored), added = with_fallbacks(attempt, allowed_after, staged(floored, gate),

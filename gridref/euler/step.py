@@ -509,13 +509,6 @@ def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable
     return jax.lax.fori_loop(0, jnp.where(jnp.isfinite(out[1]), 0, 1), with_floors, (out, jnp.zeros(3)))
 
 
-def scratch_like(arrays) -> tuple:
-    """Arrays of the shapes of ``arrays``, any values (the first pass of a
-    loop overwrites them), each filled apart: one zero array shared by all
-    would be copied once per array to give each its own storage."""
-    return tuple(jnp.full_like(a, k) for k, a in enumerate(arrays))
-
-
 class Stepper:
     """The MUSCL–Hancock step of one run, and stretches of it on the device.
 
@@ -612,7 +605,7 @@ class Stepper:
                 return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gas), gate)(ok, U_new)
 
             first = jnp.ones(tuple(n + 2 for n in U[0].shape), bool)
-            start = (scratch_like(U), jnp.zeros(()), jnp.zeros(2 * scheme.dim),
+            start = (tuple(jnp.zeros_like(u) for u in U), jnp.zeros(()), jnp.zeros(2 * scheme.dim),
                      jnp.zeros(n_probes if probe_sampler else 0))
             (U_new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after,
                                                                      staged(floored, gate), first, self.RETRIES, start)
