@@ -60,5 +60,5 @@ def particle_bytes(dim: int, support: float) -> float:
     """Bytes per particle of an SPH method whose neighbour lists reach
     ``support`` spacings (8 bytes per neighbour, as many as lattice sites
     within it), beside about fifty numbers of its own."""
-    neighbours = 2.0 * support if dim == 1 else math.pi * support**2
+    neighbours = (2.0 * support, math.pi * support**2, 4.0 / 3.0 * math.pi * support**3)[dim - 1]
     return 8.0 * (50 + neighbours)

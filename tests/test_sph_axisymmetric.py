@@ -106,5 +106,6 @@ def test_the_point_blast_as_a_sphere_against_sedov_taylor():
 
 
 def test_equal_masses_are_refused_in_an_axisymmetric_scene():
-    with pytest.raises(InputError, match=r"^masses='equal' runs planar scenes; sedov_spherical is axisymmetric"):
+    with pytest.raises(InputError, match=r"^masses='equal' runs planar 1D and 2D scenes; sedov_spherical is "
+                                         r"axisymmetric"):
         partmesh.run("sedov_spherical", "sph", masses="equal", progress=False)

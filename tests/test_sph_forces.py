@@ -15,37 +15,41 @@ KIND = kernels.KERNELS["wendland_c6"]
 GAMMA = 1.4
 
 
-def _state(n_fluid, n_ghost, periodic, rng):
-    """A 2D cloud on [0, 1]² (ghosts: the last ``n_ghost``, neighbours only)
-    with random supports, masses, velocities and thermodynamic states."""
+def _state(n_fluid, n_ghost, periodic, rng, dim=2):
+    """A cloud on the unit square or cube (ghosts: the last ``n_ghost``,
+    neighbours only) with random supports (about 16 neighbours in 2D, 48 in
+    3D), masses, velocities and thermodynamic states."""
     N = n_fluid + n_ghost
-    x = rng.uniform(0.0, 1.0, (N, 2))
-    s = dict(x=x, v=rng.normal(0.0, 1.0, (N, 2)), m=rng.uniform(0.5, 1.5, N) / N,
+    x = rng.uniform(0.0, 1.0, (N, dim))
+    spacing = N ** (-1.0 / dim)
+    s = dict(x=x, v=rng.normal(0.0, 1.0, (N, dim)), m=rng.uniform(0.5, 1.5, N) / N,
              u=rng.uniform(1.0, 3.0, N), rho=rng.uniform(0.8, 1.2, N), omega=rng.uniform(0.9, 1.1, N),
-             H=rng.uniform(0.06, 0.12, N), alpha=rng.uniform(0.0, 2.5, N), alpha_u=rng.uniform(0.0, 1.0, N))
+             H=rng.uniform(1.5, 3.0, N) * spacing, alpha=rng.uniform(0.0, 2.5, N), alpha_u=rng.uniform(0.0, 1.0, N))
     s["p"] = (GAMMA - 1.0) * s["rho"] * s["u"]
     s["c"] = np.sqrt(GAMMA * s["p"] / s["rho"])
-    s["box"], s["half"] = periods(np.zeros(2), np.ones(2), periodic, 2)
-    s["offsets"], s["index"] = neighbour_lists(x, s["H"], np.zeros(2), np.ones(2), periodic)
+    s["box"], s["half"] = periods(np.zeros(dim), np.ones(dim), periodic, dim)
+    s["offsets"], s["index"] = neighbour_lists(x, s["H"], np.zeros(dim), np.ones(dim), periodic)
     return s
 
 
 def _rates(s, n, chunks):
     return rates(padded(s["x"]), s["box"], s["half"], padded(s["v"]), s["m"], s["u"], s["rho"], s["p"], s["c"],
-                 s["omega"], s["H"], s["alpha"], s["alpha_u"], s["offsets"], s["index"], KIND, 2, n, chunks)
+                 s["omega"], s["H"], s["alpha"], s["alpha_u"], s["offsets"], s["index"], KIND, s["x"].shape[1], n,
+                 chunks)
 
 
 def _direct(s, n):
     """Every documented sum over all pairs (i < n, j ≠ i), in numpy."""
     x, v, m, u, rho, p, c, om, H, al, au = (s[k] for k in ("x", "v", "m", "u", "rho", "p", "c", "omega", "H",
                                                            "alpha", "alpha_u"))
+    dim = x.shape[1]
     d = x[:n, None, :] - x[None, :, :]
-    d -= s["box"][:2] * ((d > s["half"][:2]).astype(float) - (d < -s["half"][:2]))
+    d -= s["box"][:dim] * ((d > s["half"][:dim]).astype(float) - (d < -s["half"][:dim]))
     r = np.linalg.norm(d, axis=2)
     np.fill_diagonal(r[:, :n], 10.0)  # beyond every support: no self term
     e = d / r[..., None]
-    Fi = kernels.dwdr("wendland_c6", r, H[:n, None], 2)
-    Fj = kernels.dwdr("wendland_c6", r, H[None, :], 2)
+    Fi = kernels.dwdr("wendland_c6", r, H[:n, None], dim)
+    Fj = kernels.dwdr("wendland_c6", r, H[None, :], dim)
     Fbar = 0.5 * (Fi + Fj)
     dv = v[:n, None, :] - v[None, :, :]
     w = np.einsum("ijk,ijk->ij", dv, e)
@@ -61,16 +65,19 @@ def _direct(s, n):
     dudt = (pt[:n] * np.sum(m * w * Fi, axis=1) + 0.5 * np.sum(m * Pi * w * Fbar, axis=1)
             + np.sum(m * cond * du_ij / rho_bar * Fbar, axis=1))
     div_v = -np.sum(m * w * Fi, axis=1) / (om[:n] * rho[:n])
-    curl_v = np.abs(np.sum(m * (dv[..., 0] * e[..., 1] - dv[..., 1] * e[..., 0]) * Fi, axis=1)) / (om[:n] * rho[:n])
+    # |Σ_j m_j (v_ij × x̂_ij) F_i|: only the z component in 2D
+    twist = np.cross(dv, e) if dim == 3 else (dv[..., 0] * e[..., 1] - dv[..., 1] * e[..., 0])[..., None]
+    curl_v = np.linalg.norm(np.sum((m * Fi)[..., None] * twist, axis=1), axis=1) / (om[:n] * rho[:n])
     inside = r < np.maximum(H[:n, None], H[None, :])
     vsig_max = np.maximum(c[:n], np.max(np.where(inside, vsig, 0.0), axis=1))
     lap_u = 2.0 * np.sum(m / rho * du_ij * Fi / r, axis=1)
     return dvdt, dudt, div_v, curl_v, vsig_max, lap_u, int(inside.sum())
 
 
-@pytest.mark.parametrize("periodic", [(False, False), (True, True)])
-def test_force_pass_matches_the_direct_pair_sums(periodic):
-    s = _state(500, 120, periodic, np.random.default_rng(5))
+@pytest.mark.parametrize("dim, periodic", [(2, (False, False)), (2, (True, True)), (3, (False, True, False)),
+                                           (3, (True, True, True))])
+def test_force_pass_matches_the_direct_pair_sums(dim, periodic):
+    s = _state(500, 120, periodic, np.random.default_rng(5), dim)
     got, want = _rates(s, 500, 2), _direct(s, 500)
     for name, a, b in zip(("dvdt", "dudt", "div_v", "curl_v", "vsig_max", "lap_u"), got, want):
         scale = np.abs(b).max()
@@ -78,18 +85,20 @@ def test_force_pass_matches_the_direct_pair_sums(periodic):
     assert got[-1] == want[-1]  # ordered interactions: fluid–fluid pairs twice, fluid–ghost once
 
 
-def test_force_pass_does_not_depend_on_the_chunk_count():
-    s = _state(800, 0, (True, False), np.random.default_rng(6))
+@pytest.mark.parametrize("dim", [2, 3])
+def test_force_pass_does_not_depend_on_the_chunk_count(dim):
+    s = _state(800, 0, (True, False, True)[:dim], np.random.default_rng(6), dim)
     one = _rates(s, 800, 1)
     for chunks in (2, 3, 7):
         for a, b in zip(one[:-1], _rates(s, 800, chunks)[:-1]):
             np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12 * np.abs(a).max())
 
 
-def test_pairwise_forces_conserve_momentum_and_energy_to_round_off():
+@pytest.mark.parametrize("dim", [2, 3])
+def test_pairwise_forces_conserve_momentum_and_energy_to_round_off(dim):
     """Without ghosts every pair term is antisymmetric: Σ m dv/dt = 0 and
     Σ m (v·dv/dt + du/dt) = 0 (Price 2012, §4.4)."""
-    s = _state(1000, 0, (True, True), np.random.default_rng(7))
+    s = _state(1000, 0, (True,) * dim, np.random.default_rng(7), dim)
     dvdt, dudt, *_ = _rates(s, 1000, 2)
     m, v = s["m"], s["v"]
     scale = np.sum(m * np.abs(dvdt).sum(axis=1))

@@ -7,7 +7,7 @@ import pytest
 
 from partmesh.compare.deposit import shepard
 from partmesh.particle import kernels
-from partmesh.particle.sph.sampling import shepard_at_points, shepard_on_grid
+from partmesh.particle.sph.sampling import on_grid, shepard_at_points
 
 KIND = kernels.KERNELS["wendland_c6"]
 
@@ -31,8 +31,7 @@ def test_grid_deposition_matches_the_general_shepard_2d(periodic):
     gx, gy = (np.arange(40) + 0.5) / 40, (np.arange(25) + 0.5) / 25
     reference = shepard(x, values, vol, H, gx, gy, kernel=lambda r, h: kernels.w("wendland_c6", r, h, 2),
                         periodic=periodic, box=((0.0, 1.0), (0.0, 1.0)))
-    fast = shepard_on_grid(x[:, 0].copy(), x[:, 1].copy(), values, vol, H, gx[0], gx[1] - gx[0], gx.size,
-                           gy[0], gy[1] - gy[0], gy.size, periodic[0], periodic[1], KIND, 2, 1e-3)
+    fast = on_grid(x, values, vol, H, (gx, gy), periodic, KIND, 1e-3)
     assert np.isnan(reference).any() and not np.isnan(reference).all()
     np.testing.assert_array_equal(np.isnan(fast), np.isnan(reference))
     np.testing.assert_allclose(fast, reference, rtol=1e-12, atol=1e-12)
@@ -45,8 +44,43 @@ def test_grid_deposition_matches_the_general_shepard_1d(periodic):
     gx = (np.arange(64) + 0.5) / 64
     reference = shepard(x, values, vol, H, gx, kernel=lambda r, h: kernels.w("wendland_c6", r, h, 1),
                         periodic=(periodic,), box=((0.0, 1.0),))
-    fast = shepard_on_grid(x[:, 0].copy(), np.zeros(len(x)), values, vol, H, gx[0], gx[1] - gx[0], gx.size,
-                           0.0, 1.0, 1, periodic, False, KIND, 1, 1e-3)[:, 0]
+    fast = on_grid(x, values, vol, H, (gx,), (periodic,), KIND, 1e-3)
+    np.testing.assert_allclose(fast, reference, rtol=1e-12, atol=1e-12)
+
+
+def _all_pairs_3d(x, values, vol, H, axes, periodic):
+    """Σ_j f_j V_j W / Σ_j V_j W at every cell of ``axes`` over every particle
+    (minimum image on the periodic axes of the unit cube), NaN below 1e-3."""
+    Z, Y, X = np.meshgrid(axes[2], axes[1], axes[0], indexing="ij")
+    d = np.stack([X, Y, Z], axis=-1)[..., None, :] - x
+    d -= np.asarray(periodic) * np.round(d)
+    W = vol * kernels.w("wendland_c6", np.linalg.norm(d, axis=-1), H, 3)
+    den = W.sum(axis=-1)
+    with np.errstate(invalid="ignore"):
+        return np.where(den >= 1e-3, np.einsum("zyxn,kn->kzyx", W, values) / den, np.nan)
+
+
+def _centres(n):
+    return (np.arange(n) + 0.5) / n
+
+
+@pytest.mark.parametrize("periodic", [(False, False, False), (True, False, True), (False, True, False),
+                                      (True, True, True)])
+@pytest.mark.parametrize("shape, wide", [((13, 9, 11), 1.5), ((13, 9, 1), 1.5), ((6, 4, 4), 5.0)])
+def test_grid_deposition_in_3d_matches_the_sum_over_all_pairs(periodic, shape, wide):
+    """The 3D grid against the sums over every particle and cell: unequal
+    spacings, one layer of a single cell, and even cell counts on periodic
+    axes with supports near half the period (every plane and row once)."""
+    rng = np.random.default_rng(8)
+    x, H, vol, values = _cloud(3, 1500, rng)
+    x = x[np.linalg.norm(x - 0.7, axis=1) > 0.35]  # a hole: cells without support come out NaN
+    H, vol, values = wide * H[: len(x)], vol[: len(x)], values[:, : len(x)]
+    grid = tuple(_centres(n) for n in shape)
+    reference = _all_pairs_3d(x, values, vol, H, grid, periodic)
+    fast = on_grid(x, values, vol, H, grid, periodic, KIND, 1e-3, lengths=(1.0, 1.0, 1.0))
+    assert fast.shape == (2, shape[2], shape[1], shape[0])
+    assert not np.isnan(reference).all()
+    np.testing.assert_array_equal(np.isnan(fast), np.isnan(reference))
     np.testing.assert_allclose(fast, reference, rtol=1e-12, atol=1e-12)
 
 

@@ -17,7 +17,7 @@ from partmesh.cases.registry import get
 from partmesh.cases.shape_factories import wedge
 from partmesh.cases.shapes import Circle, Polygon
 from partmesh.particle import kernels
-from partmesh.particle.sph.particles import place_2d
+from partmesh.particle.sph.particles import mirror_ghosts, place_2d
 from partmesh.particle.sph.wall_placement import off_surface, walls
 from partmesh.particle.sph.wall_reflection import reflect_into_fluid
 from partmesh.particle.sph.wall_state import points_within_support, virtual_state, wall_state
@@ -482,3 +482,34 @@ def test_a_rod_cut_by_a_periodic_side_acts_as_one_body():
     _, one_sided, _ = state_of(cut, 0.0, periodic=(False, False))
     k = matched(wall_c.x_wall, wall_w.x_wall)
     assert np.abs(one_sided - value_w[k]).max() > 1e-3
+
+
+def test_mirror_ghosts_hold_every_image_a_pair_reaches_or_stop():
+    """Between two reflecting walls of a box of width W the images of particle s are ±x_s + 2kW. For random
+    particles and search radii R, either the ghosts hold every image of every s within max(R_k, R_s) of a
+    particle k (pairs are listed on the larger radius), or an image is needed that one mirror per wall does
+    not make (x_s − 2W, the lower wall's image of the upper one's) and the search stops."""
+    box = SimpleNamespace(sides=("x_lo", "x_hi"), boundaries={"x_lo": "reflect", "x_hi": "reflect"},
+                          domain=((0.0, 1.0),))
+    rng = np.random.default_rng(11)
+    outcomes = set()
+    for _ in range(300):
+        x = rng.uniform(0.0, 1.0, (6, 1))
+        R = rng.uniform(0.05, 1.4, 6)
+        reach = np.maximum(R[:, None], R[None, :])  # (k, s)
+        try:
+            gx, _, src, _ = mirror_ghosts(box, x, np.zeros_like(x), R)
+        except FloatingPointError as err:
+            outcomes.add("stopped")
+            assert "reaches past the mirror images of the 1 m between the walls across x" in str(err)
+            assert np.any(np.abs(x[:, 0, None] - (x[None, :, 0] - 2.0)) < reach)
+            continue
+        outcomes.add("searched")
+        for s in range(6):
+            images = np.concatenate([x[s, 0] + 2.0 * np.arange(-3, 4), -x[s, 0] + 2.0 * np.arange(-3, 4)])
+            images = images[np.abs(images - x[s, 0]) > 1e-12]
+            made = gx[src == s, 0]
+            for k in range(6):
+                needed = images[np.abs(images - x[k, 0]) < reach[k, s]]
+                assert all(np.any(np.isclose(made, y, rtol=0, atol=1e-12)) for y in needed), (k, s)
+    assert outcomes == {"stopped", "searched"}

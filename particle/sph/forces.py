@@ -13,9 +13,10 @@ approaching pairs (w_ij = v_ij·x̂_ij < 0), v_sig = ½(c_i + c_j − β w_ij),
 β = 2α_ij, α_ij = ½(α_i + α_j), and the conduction signal speed
 v^u_sig = sqrt(|p_i − p_j|/ρ̄_ij).
 
-Also returned: ∇·v and |∇×v| (2D) per particle, ``-(1/(Ω_i ρ_i)) Σ_j m_j v_ij·∇_i W(H_i)``
-and its curl analogue, the largest signal speed a particle sees (for
-the time step and the switches), and the Laplacian of u (Brookshaw 1985),
+Also returned: ∇·v and |∇×v| per particle, ``-(1/(Ω_i ρ_i)) Σ_j m_j v_ij·∇_i W(H_i)``
+and the length of its curl analogue ``(1/(Ω_i ρ_i)) |Σ_j m_j v_ij × ∇_i W(H_i)|`` (in 2D only its z component,
+``(v_ij × x̂_ij)_z``, differs from zero; in 1D none does), the largest signal speed a particle
+sees (for the time step and the switches), and the Laplacian of u (Brookshaw 1985),
 ``∇²u_i = 2 Σ_j (m_j/ρ_j) (u_i − u_j) (∂W(r_ij, H_i)/∂r)/r_ij``, for the
 conduction switch.
 """
@@ -79,8 +80,8 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
         Q[j, _P_TERM] = p[j] / (omega[j] * rho[j] * rho[j])
         Q[j, _VOLUME] = m[j] / rho[j]
     nchunk = max(1, min(chunks, n))
-    # per chunk and particle: a0, a1, a2, du, div, curl, lap, vsig
-    acc = np.zeros((nchunk, n, 8))
+    # per chunk and particle: a0, a1, a2, du, div, curl_z, lap, vsig, and in 3D curl_x, curl_y
+    acc = np.zeros((nchunk, n, 10 if dim == 3 else 8))
     counted = np.zeros(nchunk, dtype=np.int64)
     for ch in numba.prange(nchunk):
         out = acc[ch]
@@ -92,6 +93,8 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
             du = 0.0
             div = 0.0
             curl = 0.0
+            curl_x = 0.0
+            curl_y = 0.0
             lap = 0.0
             vsig_i = c[i]
             inv_Hi, grad_i, p_term_i = Q[i, _INV_H], Q[i, _GRAD], Q[i, _P_TERM]
@@ -145,6 +148,13 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
                 div -= mwF
                 lap += 2.0 * Q[j, _VOLUME] * du_ij * Fi * inv_r
                 curl += mj * twist * Fi
+                twist_x = 0.0
+                twist_y = 0.0
+                if dim == 3:  # the other components of v_ij × x̂_ij
+                    twist_x = dv1 * ex2 - dv2 * ex1
+                    twist_y = dv2 * ex0 - dv0 * ex2
+                    curl_x += mj * twist_x * Fi
+                    curl_y += mj * twist_y * Fi
                 pairs += 1
                 if j >= n:
                     continue  # a ghost or imposed particle: its rates are not needed
@@ -160,6 +170,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
                 out[j, 5] += mi * twist * Fj
                 out[j, 6] -= 2.0 * Q[i, _VOLUME] * du_ij * Fj * inv_r
                 out[j, 7] = max(out[j, 7], vsig)
+                if dim == 3:
+                    out[j, 8] += mi * twist_x * Fj
+                    out[j, 9] += mi * twist_y * Fj
                 pairs += 1
             out[i, 0] += a0
             out[i, 1] += a1
@@ -169,6 +182,9 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
             out[i, 5] += curl
             out[i, 6] += lap
             out[i, 7] = max(out[i, 7], vsig_i)
+            if dim == 3:
+                out[i, 8] += curl_x
+                out[i, 9] += curl_y
         counted[ch] = pairs
     dvdt = np.empty((n, dim))
     dudt = np.empty(n)
@@ -188,6 +204,13 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
             elif q == 4:
                 div_v[i] = total / (omega[i] * rho[i])
             elif q == 5:
+                if dim == 3:
+                    cx = 0.0
+                    cy = 0.0
+                    for ch in range(nchunk):
+                        cx += acc[ch, i, 8]
+                        cy += acc[ch, i, 9]
+                    total = math.sqrt(cx * cx + cy * cy + total * total)
                 curl_v[i] = abs(total) / (omega[i] * rho[i])
             elif q == 6:
                 lap_u[i] = total

@@ -95,7 +95,7 @@ class VerletLists:
         if growth is not None:
             reach[: growth.size] *= growth
         reach = np.minimum(reach, self.half_period)  # (minimum images: no list reaches beyond half a period)
-        gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, float(reach.max()), self.open)
+        gx, gv, src, sides = mirror_ghosts(self.walls, x_real, v_real, reach, self.open)
         x = np.concatenate([x_real, gx])
         radius = np.concatenate([reach, reach[src]])
         offsets, index = neighbour_lists(x, radius, self.lo, self.hi, self.periodic, rows=n)

@@ -55,26 +55,29 @@ class SPHSettings(SPHScheme):
     the square lattice, masses ρ dx^d), ``cfl`` the step's Courant number
     (Δt = C min h/v_sig), the scheme's settings (:class:`SPHScheme`), and
     ``particles``, a file to write the last state's particles to (SPEC §2).
-    ``masses`` left None is ``"equal"`` in a planar scene and ``"lattice"``
-    in an axisymmetric one, where ring masses on a lattice are the only
-    placement."""
+    ``masses`` left None is ``"equal"`` in a planar 1D or 2D scene and
+    ``"lattice"`` in an axisymmetric one, where ring masses on a lattice are
+    the only placement, and in 3D, where the cubic lattice is."""
 
     method: ClassVar[str] = "sph"
 
     cfl: float = setting(0.25, within(0.0, 1.0, lo_open=True), "Courant number in (0, 1]")
-    masses: str | None = setting(None, one_of(MASSES), "initial particle masses (None: equal, lattice in r-z)")
+    masses: str | None = setting(None, one_of(MASSES), "initial particle masses (None: equal, lattice in r-z and 3D)")
     particles: str | None = setting(None, optional_path, "file for the particles of the last state")
 
     def scene_defaults(self, scene) -> dict:
-        lattice = scene.geometry == "axisymmetric" or scene.detonation is not None
+        lattice = scene.geometry == "axisymmetric" or scene.detonation is not None or scene.dim == 3
         return {**super().scene_defaults(scene),
                 "masses": ("lattice" if lattice else "equal") if self.masses is None else self.masses}
 
     def check_together(self, scene) -> None:
         super().check_together(scene)
         if self.masses == "equal" and scene.geometry == "axisymmetric":
-            raise InputError(f"masses='equal' runs planar scenes; {scene.name} is axisymmetric, where sph places "
-                             "ring masses on the lattice (masses='lattice').")
+            raise InputError(f"masses='equal' runs planar 1D and 2D scenes; {scene.name} is axisymmetric, where sph "
+                             "places ring masses on the lattice (masses='lattice').")
+        if self.masses == "equal" and scene.dim == 3:
+            raise InputError(f"masses='equal' runs 1D and 2D scenes; {scene.name} is 3D, where sph places the cubic "
+                             "lattice (masses='lattice').")
         if self.masses == "equal" and scene.detonation is not None:
             raise InputError(f"masses='equal' runs scenes of one gas; {scene.name} holds detonation products, which "
                              "sph places on the lattice (masses='lattice').")
@@ -88,4 +91,4 @@ def memory(scene, settings: SPHSettings) -> Memory:
 
 
 METHOD = Method("sph", "gas", SPHSettings, memory, "partmesh.particle.sph.solve:solve",
-                geometries=("planar", "axisymmetric"), detonations=True)
+                geometries=("planar", "axisymmetric"), dims=(1, 2, 3), detonations=True)

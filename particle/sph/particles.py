@@ -14,17 +14,25 @@ from partmesh.cases.scene import Inflow
 from partmesh.particle.sph.wall_placement import off_surface
 
 
+def initial_state(scene, x, dx: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The scene's initial ``(rho, v, p)`` at the points ``x`` (n, dim), ``v``
+    (n, dim): ``scene.initial`` called as its dimension asks (SPEC §4)."""
+    coords = [x[:, a] for a in range(scene.dim)]
+    given = scene.initial(coords[0], coords[1] if scene.dim > 1 else None, dx, *coords[2:])
+    rho, *velocity, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy() for a in given)
+    return rho, np.stack(velocity[: scene.dim], axis=1), p
+
+
 def _side_state(scene, side: str, dx: float):
-    """Initial ``(c, u_n)`` at points along ``side``: sound speed and the
+    """Initial ``(c, u_n)`` at points over ``side``: sound speed and the
     velocity along the side's outward normal."""
     d = scene.sides.index(side)
     axis, upper = d // 2, d % 2 == 1
-    along = np.linspace(*scene.domain[1 - axis], 65) if scene.dim == 2 else np.zeros(1)
-    edge = np.full(along.shape, scene.domain[axis][1 if upper else 0])
-    x, y = (edge, along) if axis == 0 else (along, edge)
-    rho, u, v, p = (np.broadcast_to(np.asarray(a, float), x.shape)
-                    for a in scene.initial(x, y if scene.dim == 2 else None, dx))
-    return np.sqrt(scene.gamma * p / rho), (u if axis == 0 else v) * (1.0 if upper else -1.0)
+    along = [np.linspace(*extent, 65) if a != axis else np.array([extent[1 if upper else 0]])
+             for a, extent in enumerate(scene.domain)]
+    x = np.stack([c.ravel() for c in np.meshgrid(*along, indexing="ij")], axis=1)
+    rho, v, p = initial_state(scene, x, dx)
+    return np.sqrt(scene.gamma * p / rho), v[:, axis] * (1.0 if upper else -1.0)
 
 
 def outflow_reach(scene, dx: float, t_end: float, margin: float) -> dict[str, float]:
@@ -106,7 +114,7 @@ def place_2d(scene, dx: float, box) -> tuple[np.ndarray, float]:
 
 
 def place_lattice(scene, dx: float, box) -> tuple[np.ndarray, np.ndarray]:
-    """Particles on the square lattice of spacing ``dx`` over ``box`` (outside
+    """Particles on the square (cubic) lattice of spacing ``dx`` over ``box`` (outside
     the obstacles, moved off their surfaces as in :func:`place_2d`), each of
     mass ρ dx^d with the scene's initial density at its point (the density
     of the cell of side ``dx`` about it): unequal masses where the density
@@ -119,9 +127,7 @@ def place_lattice(scene, dx: float, box) -> tuple[np.ndarray, np.ndarray]:
         x = x[shape.signed_distance(x[:, 0], x[:, 1]) > 0.0]
     if scene.dim == 2:
         x = off_surface(scene.obstacles, x, 0.5 * dx)
-    rho = np.broadcast_to(np.asarray(scene.initial(x[:, 0], x[:, 1] if scene.dim == 2 else None, dx)[0], float),
-                          x[:, 0].shape)
-    return x, rho * lattice_volumes(scene, x, dx)
+    return x, initial_state(scene, x, dx)[0] * lattice_volumes(scene, x, dx)
 
 
 def lattice_volumes(scene, x, dx: float):
@@ -178,9 +184,31 @@ def mirror_ghosts(scene, x, v, reach, open_: tuple[str, ...] = ()):
     of each ghost's source particle and the bit mask of the sides it is
     mirrored across. Sides are mirrored in turn, so a corner between two
     such sides gets the double mirror image; :func:`mirror_images` makes the
-    same ghosts again from moved sources."""
+    same ghosts again from moved sources.
+
+    ``reach`` is the neighbour-search radius, one or one per particle (the
+    largest sets which particles are mirrored). Between two mirrored sides
+    of an axis of width W the images of upper images across the lower side
+    are not made: the image of particle s there lies W + d_hi(s) + d_lo(k)
+    from particle k (d: the distance to a side), so a pair that reaches
+    more than W beyond both particles' distances to their sides raises
+    ``FloatingPointError``, naming the particle."""
+    mirrored = _mirror_sides(scene, open_)
+    reach = np.broadcast_to(np.asarray(reach, float), x.shape[:1])
+    for axis in sorted({a for _, a, _, _, _ in mirrored}):
+        (lo, hi) = scene.domain[axis]
+        if sum(a == axis for _, a, _, _, _ in mirrored) == 2 and x.shape[0]:
+            d_lo, d_hi = x[:, axis] - lo, hi - x[:, axis]
+            for beyond, other in ((reach - d_lo, d_hi), (reach - d_hi, d_lo)):
+                k = int(np.argmax(beyond))
+                if beyond[k] > (hi - lo) + float(other.min()):
+                    raise FloatingPointError(f"the neighbour-search radius {reach[k]:.3g} m of the particle at x = "
+                                             f"{x[k].round(6).tolist()} m reaches past the mirror images of the "
+                                             f"{hi - lo:g} m between the walls across {'xyz'[axis]}: run a wider "
+                                             "box or a finer dx")
+    reach = float(reach.max()) if x.shape[0] else 0.0
     src, mask, gx = np.arange(x.shape[0]), np.zeros(x.shape[0], dtype=np.int64), x
-    for bit, axis, upper, wall, _ in _mirror_sides(scene, open_):
+    for bit, axis, upper, wall, _ in mirrored:
         near = (gx[:, axis] > wall - reach) if upper else (gx[:, axis] < wall + reach)
         mx = gx[near].copy()
         mx[:, axis] = 2.0 * wall - mx[:, axis]
@@ -231,6 +259,8 @@ def check_supported(scene):
     for side in scene.sides:
         if isinstance(scene.boundaries[side], Inflow) and side != "x_lo":
             raise Unsupported(f"scene {scene.name}: sph has inflow buffers on side x_lo only, not {side}.")
+    if scene.detonation is not None and scene.dim == 3:
+        raise Unsupported(f"scene {scene.name}: sph carries detonation products in 1D, 2D and r-z scenes, not 3D.")
     if scene.detonation is not None and scene.obstacles:
         raise Unsupported(f"scene {scene.name}: sph carries detonation products in scenes without obstacles only "
                           "(the obstacles' virtual particles hold air).")

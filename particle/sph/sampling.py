@@ -5,7 +5,8 @@ points, for probe series sampled many times per run:
 
 A direct sum over the particles, parallel over particles with per-thread
 partial sums: O(N · points), cheaper than building a tree for a handful of
-points. (Whole output grids go through :func:`partmesh.compare.deposit.shepard`.)
+points, and on the cell centres of a uniform grid in 1D, 2D or 3D (:func:`on_grid`), sorted into the
+grid's lines so that each cell sums only the particles whose supports reach it.
 """
 
 from __future__ import annotations
@@ -72,72 +73,113 @@ def _rows_of(y, y0, dy, ny, periodic, length):
     return row
 
 
+@numba.njit(cache=True, inline="always")
+def _bucket(c, n, periodic):
+    """Row (or plane) ``c`` of ``n`` wrapped on a periodic axis; −1 where it lies off a non-periodic one."""
+    if periodic:
+        return c % n
+    return c if 0 <= c < n else -1
+
+
 @numba.njit(parallel=True, cache=True)
-def kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim):
-    """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy)``
-    of a uniform ``ny × nx`` grid for the ``values`` f (k, n): (k, ny, nx)
-    and (ny, nx). 1D: ``y`` zeros, ``ny = 1``. On a periodic axis the box
-    is the grid's extent (n·spacing) and every support must be below half
-    of it. Each grid row sums the particles of the rows its supports can
-    reach, row by row, so threads never share a cell and the sums do not
-    depend on the thread count."""
+def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim):
+    """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy, z0 + s dz)``
+    of a uniform ``nz × ny × nx`` grid for the ``values`` f (k, n): (k, nz, ny, nx)
+    and (nz, ny, nx). 2D: ``z`` zeros, ``nz = 1``; 1D: ``y`` zeros too, ``ny = 1``.
+    ``periodic`` holds three flags (x, y, z); on a periodic axis the box is the
+    grid's extent (n·spacing) and every support must be below half of it.
+    The particles are sorted into the grid's lines along x (a plane and a row
+    each); each line sums the particles of the lines its supports can reach,
+    line by line, so threads never share a cell and the sums do not depend on
+    the thread count."""
     n, k = x.size, values.shape[0]
-    Lx, Ly = nx * dx, ny * dy
+    Lx, Ly, Lz = nx * dx, ny * dy, nz * dz
+    periodic_x, periodic_y, periodic_z = periodic[0], periodic[1], periodic[2]
     H_max = H.max() if n else 0.0
-    reach = int(math.ceil(H_max / dy)) + 1 if dim > 1 else 0
-    if periodic_y:
-        reach = min(reach, (ny - 1) // 2)
-    # row r's particles, in their input order: order[start[r]:start[r + 1]]
-    start, order = counting_sort(_rows_of(y, y0, dy, ny, periodic_y, Ly), ny)
-    num = np.zeros((k, ny, nx))
-    den = np.zeros((ny, nx))
-    for r in numba.prange(ny):
-        yr = y0 + r * dy
-        for rr in range(r - reach, r + reach + 1):
-            if periodic_y:
-                bucket = rr % ny
-            elif rr < 0 or rr >= ny:
+    reach_y = int(math.ceil(H_max / dy)) + 1 if dim > 1 else 0
+    reach_z = int(math.ceil(H_max / dz)) + 1 if dim > 2 else 0
+    # the lines within reach, each once on a periodic axis
+    span_y = min(2 * reach_y + 1, ny) if periodic_y else 2 * reach_y + 1
+    span_z = min(2 * reach_z + 1, nz) if periodic_z else 2 * reach_z + 1
+    # line l = s·ny + r holds its particles in their input order: order[start[l]:start[l + 1]]
+    line = _rows_of(z, z0, dz, nz, periodic_z, Lz) * ny + _rows_of(y, y0, dy, ny, periodic_y, Ly)
+    start, order = counting_sort(line, nz * ny)
+    num = np.zeros((k, nz, ny, nx))
+    den = np.zeros((nz, ny, nx))
+    for sr in numba.prange(nz * ny):
+        s, r = sr // ny, sr % ny
+        zs, yr = z0 + s * dz, y0 + r * dy
+        for ss in range(s - reach_z, s - reach_z + span_z):
+            plane = _bucket(ss, nz, periodic_z)
+            if plane < 0:
                 continue
-            else:
-                bucket = rr
-            for t in range(start[bucket], start[bucket + 1]):
-                j = order[t]
-                ey = yr - y[j]
-                if periodic_y:
-                    ey -= Ly * math.floor(ey / Ly + 0.5)
-                if abs(ey) >= H[j]:
+            for rr in range(r - reach_y, r - reach_y + span_y):
+                row = _bucket(rr, ny, periodic_y)
+                if row < 0:
                     continue
-                half_chord = math.sqrt(H[j] * H[j] - ey * ey)
-                xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
-                i_lo = int(math.ceil((xj - half_chord - x0) / dx))
-                i_hi = int(math.floor((xj + half_chord - x0) / dx))
-                if not periodic_x:
-                    i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
-                for i in range(i_lo, i_hi + 1):
-                    ex = x0 + i * dx - xj
-                    dist = math.sqrt(ex * ex + ey * ey)
-                    if dist < H[j]:
-                        w = volumes[j] * kernel_w(kind, dist, H[j], dim)
-                        c = i % nx if periodic_x else i
-                        den[r, c] += w
-                        for f in range(k):
-                            num[f, r, c] += w * values[f, j]
+                bucket = plane * ny + row
+                for t in range(start[bucket], start[bucket + 1]):
+                    j = order[t]
+                    ey = yr - y[j]
+                    if periodic_y:
+                        ey -= Ly * math.floor(ey / Ly + 0.5)
+                    ez = zs - z[j]
+                    if periodic_z:
+                        ez -= Lz * math.floor(ez / Lz + 0.5)
+                    across = ey * ey + ez * ez
+                    if across >= H[j] * H[j]:
+                        continue
+                    half_chord = math.sqrt(H[j] * H[j] - across)
+                    xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
+                    i_lo = int(math.ceil((xj - half_chord - x0) / dx))
+                    i_hi = int(math.floor((xj + half_chord - x0) / dx))
+                    if not periodic_x:
+                        i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
+                    for i in range(i_lo, i_hi + 1):
+                        ex = x0 + i * dx - xj
+                        dist = math.sqrt(ex * ex + across)
+                        if dist < H[j]:
+                            w = volumes[j] * kernel_w(kind, dist, H[j], dim)
+                            c = i % nx if periodic_x else i
+                            den[s, r, c] += w
+                            for f in range(k):
+                                num[f, s, r, c] += w * values[f, j]
     return num, den
 
 
 @numba.njit(parallel=True, cache=True)
-def shepard_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y, kind, dim,
+def shepard_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim,
                     min_support):
     """``values`` (k, n) interpolated at the grid centres of
-    :func:`kernel_sums_on_grid`: (k, ny, nx), NaN where the kernel sum
+    :func:`kernel_sums_on_grid`: (k, nz, ny, nx), NaN where the kernel sum
     Σ_j V_j W is zero or below ``min_support``."""
     k = values.shape[0]
-    num, den = kernel_sums_on_grid(x, y, values, volumes, H, x0, dx, nx, y0, dy, ny, periodic_x, periodic_y,
+    num, den = kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic,
                                    kind, dim)
-    out = np.empty((k, ny, nx))
-    for r in numba.prange(ny):
+    out = np.empty((k, nz, ny, nx))
+    for sr in numba.prange(nz * ny):
+        s, r = sr // ny, sr % ny
         for i in range(nx):
-            ok = den[r, i] > 0.0 and den[r, i] >= min_support
+            ok = den[s, r, i] > 0.0 and den[s, r, i] >= min_support
             for f in range(k):
-                out[f, r, i] = num[f, r, i] / den[r, i] if ok else np.nan
+                out[f, s, r, i] = num[f, s, r, i] / den[s, r, i] if ok else np.nan
     return out
+
+
+def on_grid(x, values, volumes, H, axes, periodic, kind, min_support, lengths=None) -> np.ndarray:
+    """Shepard interpolation of ``values`` (k, n) of particles at ``x`` (n, dim)
+    on the uniform grid with cell-centre ``axes`` (x[, y[, z]]): the schema
+    layout (k, [z, [y,]] x), NaN where the kernel sum is below ``min_support``
+    (:func:`shepard_on_grid`). ``periodic``: one flag per axis; ``lengths``:
+    the grid's extent per axis, which sets the spacing (and period) of an
+    axis of one centre (without it, 1 m)."""
+    dim = x.shape[1]
+    pos = [np.ascontiguousarray(x[:, a]) if a < dim else np.zeros(x.shape[0]) for a in range(3)]
+    grid = []
+    for a in range(3):
+        c = np.asarray(axes[a], float) if a < dim else np.zeros(1)
+        single = float(lengths[a]) if lengths is not None and a < dim else 1.0
+        grid += [float(c[0]), float(c[1] - c[0]) if c.size > 1 else single, c.size]
+    flags = np.array([bool(periodic[a]) if a < dim else False for a in range(3)])
+    out = shepard_on_grid(*pos, np.ascontiguousarray(values), volumes, H, *grid, flags, kind, dim, min_support)
+    return out.reshape(out.shape[:1] + out.shape[4 - dim:])

@@ -32,7 +32,7 @@ from partmesh.particle.sph.integrator import SEARCH_SLACK
 from partmesh.particle.sph.lists import PerParticle, VerletLists
 from partmesh.particle.sph.materials import Materials
 from partmesh.particle.sph.method import has_inlet
-from partmesh.particle.sph.sampling import shepard_on_grid
+from partmesh.particle.sph.sampling import on_grid
 from partmesh.particle.sph.wall_placement import in_box
 from partmesh.particle.sph.wall_state import virtual_state
 
@@ -249,16 +249,8 @@ class GasSPH:
 
     def interpolate(self, P: Particles, E: Evaluation, values, axes):
         """Shepard interpolation of particle ``values`` (k, n) on the uniform
-        grid with cell-centre ``axes`` (x[, y]): the schema layout (k, [y,] x)."""
-        gx = axes[0]
-        gy = axes[1] if self.dim == 2 else np.zeros(1)
-        y = P.x[:, 1] if self.dim == 2 else np.zeros(P.x.shape[0])
-        spacing_y = gy[1] - gy[0] if gy.size > 1 else 1.0
-        grids = shepard_on_grid(np.ascontiguousarray(P.x[:, 0]), np.ascontiguousarray(y), np.ascontiguousarray(values),
-                                P.m / E.rho, E.H, gx[0], gx[1] - gx[0], gx.size, gy[0], spacing_y, gy.size,
-                                bool(self.periodic[0]), self.dim == 2 and bool(self.periodic[1]), self.kind,
-                                self.dim, MIN_SUPPORT)
-        return grids if self.dim == 2 else grids[:, 0]
+        grid with cell-centre ``axes`` (x[, y[, z]]): the schema layout (k, [z, [y,]] x)."""
+        return on_grid(P.x, values, P.m / E.rho, E.H, axes, self.periodic, self.kind, MIN_SUPPORT, self.hi - self.lo)
 
 
 def _add_hoop_terms(E: Evaluation, axis, v_r, per_density) -> None:

@@ -32,6 +32,7 @@ from partmesh.particle.sph.method import SPHSettings, has_inlet
 from partmesh.particle.sph.particles import (
     check_supported,
     extended_domain,
+    initial_state,
     lattice_volumes,
     outflow_reach,
     place_1d,
@@ -169,18 +170,16 @@ def _initial_particles(scene, dx, eta, alpha_min, box, masses="equal") -> Partic
         x, mass = place_lattice(scene, dx, box)
     else:
         x, mass = (place_1d if dim == 1 else place_2d)(scene, dx, box)
-    y = None if dim == 1 else x[:, 1]
-    rho, ux, uy, p = (np.broadcast_to(np.asarray(a, float), x[:, 0].shape).copy()
-                      for a in scene.initial(x[:, 0], y, dx))
+    rho, v, p = initial_state(scene, x, dx)
     n = x.shape[0]
     products = np.zeros(n, bool)
     if scene.detonation is None:
         u = p / ((gamma - 1.0) * rho)
     else:  # (the lattice's masses were the air's: each particle carries its cell's mixture)
-        rho, u, products = charged_state(scene, x[:, 0], y, dx, rho, p)
+        rho, u, products = charged_state(scene, x[:, 0], None if dim == 1 else x[:, 1], dx, rho, p)
         mass = rho * lattice_volumes(scene, x, dx)
     summed = mass / dx ** 2 if scene.geometry == "axisymmetric" else rho
-    return Particles(x=x, v=np.stack([ux, uy][:dim], axis=1), u=u, m=np.broadcast_to(mass, n).copy(),
+    return Particles(x=x, v=v, u=u, m=np.broadcast_to(mass, n).copy(),
                      H=eta * (mass / summed) ** (1.0 / dim), alpha=np.full(n, alpha_min), alpha_u=np.zeros(n),
                      rho=summed, products=products)
 
@@ -245,8 +244,8 @@ def _pressure_at(sph, P, E, points) -> np.ndarray:
 
 def _side_forces(scene, sampled) -> np.ndarray:
     """Pressure force on every side from the pressure sampled at its
-    midpoint (per square metre in 1D, times the side's area in 2D: its
-    length per metre depth, or the whole revolved side in r–z)."""
+    midpoint (per square metre in 1D, times the side's area in 2D and 3D: in
+    2D its length per metre depth, or the whole revolved side in r–z)."""
     walls = sampled[len(scene.probes):]
     if scene.dim == 1:
         return walls
@@ -281,9 +280,9 @@ class _Run(RunRecord):
         values = {"rho": rho, "u": P.v[:, 0], "p": self.sph.materials.pressure(rho, P.u, P.products), "e": P.u}
         if "Y" in scene.fields:  # the products' mass fraction
             values["Y"] = P.products.astype(float)
-        if scene.dim == 2:
-            values["v"] = P.v[:, 1]
-        axes = (scene.output.x,) if scene.dim == 1 else (scene.output.x, scene.output.y)
+        for a, name in enumerate("vw"[: scene.dim - 1], start=1):
+            values[name] = P.v[:, a]
+        axes = tuple(scene.output.centres(a) for a in range(scene.dim))
         self.n_particles = P.x.shape[0]
         grids = self.sph.interpolate(P, E, np.stack([values[f] for f in scene.fields]), axes)
         if self.solid is not None:

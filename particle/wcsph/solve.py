@@ -173,9 +173,10 @@ class WaterSPH:
         H = np.full(x.size, support)
         if points is None:
             out = self.scene.output.x
-            num, den = kernel_sums_on_grid(x, np.zeros(x.size), u, volume, H, out[0], out[1] - out[0], out.size,
-                                           0.0, 1.0, 1, bool(self.flume.periodic[0]), False, self.column_kind, 1)
-            num, den = num[0, 0], den[0]
+            num, den = kernel_sums_on_grid(x, np.zeros(x.size), np.zeros(x.size), u, volume, H, out[0],
+                                           out[1] - out[0], out.size, 0.0, 1.0, 1, 0.0, 1.0, 1,
+                                           np.array([self.flume.periodic[0], False, False]), self.column_kind, 1)
+            num, den = num[0, 0, 0], den[0, 0]
         else:
             num, den = kernel_sums_at_points(np.asarray(points, float).reshape(-1, 1), x[:, None], u, volume, H,
                                              self.column_kind, 1, numba.get_num_threads())

@@ -2,12 +2,14 @@
 mid-plane density of every run at the seed's 0.54 ms and the pressure
 histories of the probes.
 
-    python studies/balloon_box_3d/report.py RUN.nc [RUN.nc ...]
+    python studies/balloon_box_3d/report.py [--prefix NAME] RUN.nc [RUN.nc ...]
+
+``--prefix`` names the figures ``NAME_mid_planes.png`` and ``NAME_histories.png``.
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import matplotlib
@@ -25,7 +27,7 @@ def label(ds) -> str:
     return f"{ds.attrs['method']} dx = {1e3 * ds.attrs['dx']:.3g} mm ({ds.attrs['n_elements']:,} elements)"
 
 
-def mid_planes(runs, t=0.54e-3):
+def mid_planes(runs, path, t=0.54e-3):
     """Density on the X–Y (z = middle) and X–Z (y = middle) planes of every run at ``t``."""
     fig, axes = plt.subplots(2, len(runs), figsize=(4.2 * len(runs), 6.4), squeeze=False,
                              gridspec_kw={"height_ratios": [1.78, 0.6]})
@@ -42,10 +44,10 @@ def mid_planes(runs, t=0.54e-3):
             ax.set_aspect("equal")
             ax.tick_params(labelsize=7)
         fig.colorbar(image, ax=list(axes[:, k]), label="rho [kg m-3]", shrink=0.8)
-    fig.savefig(HERE / "mid_planes.png", dpi=120)
+    fig.savefig(path, dpi=120)
 
 
-def histories(runs):
+def histories(runs, path):
     """p/p0 at every probe, each run on one panel per probe (dsmc: one sample of its cell, unsmoothed)."""
     probes = list(runs[0].probe.values)
     fig, axes = plt.subplots(1, len(probes), figsize=(3.6 * len(probes), 3.2), sharey=True)
@@ -58,11 +60,16 @@ def histories(runs):
     axes[0].set_ylabel("p / p0", fontsize=8)
     axes[0].legend(fontsize=6)
     fig.tight_layout()
-    fig.savefig(HERE / "histories.png", dpi=120)
+    fig.savefig(path, dpi=120)
 
 
 if __name__ == "__main__":
-    runs = [pm.read(path) for path in sys.argv[1:]]
-    mid_planes(runs)
-    histories(runs)
-    print("written", HERE / "mid_planes.png", HERE / "histories.png")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+")
+    parser.add_argument("--prefix", default="")
+    args = parser.parse_args()
+    runs = [pm.read(path) for path in args.runs]
+    names = [HERE / f"{args.prefix + '_' if args.prefix else ''}{name}.png" for name in ("mid_planes", "histories")]
+    mid_planes(runs, names[0])
+    histories(runs, names[1])
+    print("written", *names)
