@@ -288,5 +288,5 @@ def test_a_particle_running_away_stops_the_run_at_a_collapsed_time_step(monkeypa
     solve = importlib.import_module("partmesh.particle.sph.solve")
     monkeypatch.setattr(solve, "MIN_STEP_FRACTION", 0.1)
     with pytest.raises(partmesh.SolverFailed, match=r"sph became unstable at t = 0 s \(step 1\): the time step fell") as e:
-        partmesh.run(partmesh.scene("sod"), "sph", dx=0.02, progress=False)
+        partmesh.run(partmesh.scene("sod"), "sph", dx=0.01, progress=False)
     assert e.value.partial is not None and e.value.partial.sizes["time"] == 1
