@@ -54,7 +54,7 @@ import numpy as np
 from partmesh.cases.checkpoint import checkpoint_for
 from partmesh.cases.compiling import compiling
 from partmesh.cases.history import History, Output, RunRecord
-from partmesh.cases.march import Start, Stepping, march, single_steps
+from partmesh.cases.march import DT_FLOOR, Start, Stepping, march, single_steps
 from partmesh.compare.regrid import to_output_grid
 from partmesh.gridref.euler.setup import inflow_states, initial_state, scheme_for
 from partmesh.gridref.euler.state import primitive
@@ -96,11 +96,12 @@ class State:
 class Coupling:
     """The grid, the particles and what passes between them, for one run."""
 
-    def __init__(self, scene, grid, stepper, sph, per_cell, eta, threshold, sensor, buffer, switches, cfl_sph):
+    def __init__(self, scene, grid, stepper, sph, per_cell, eta, threshold, sensor, buffer, switches, cfl_sph,
+                 dt_floor):
         self.scene, self.grid, self.stepper, self.sph = scene, grid, stepper, sph
         self.per_cell, self.eta, self.threshold, self.buffer = per_cell, eta, threshold, buffer
         self.sensor = sensor
-        self.switches, self.cfl_sph = switches, cfl_sph
+        self.switches, self.cfl_sph, self.dt_floor = switches, cfl_sph, dt_floor
         self.dim, self.gamma = scene.dim, scene.gamma
         self.shape = tuple(grid.shape)  # cells per axis x[, y]
         self.field_shape = self.shape[::-1]  # the field layout ([y,] x)
@@ -279,6 +280,8 @@ class Coupling:
             cb = np.sqrt(self.gamma * (self.gamma - 1.0) * ub)
             ds = min(time_step(P, E, self.cfl_sph),
                      self.cfl_sph * float(np.min(0.5 * Hb / (cb + np.linalg.norm(vb, axis=1)), initial=np.inf)))
+            if not ds >= self.dt_floor:  # (NaN too)
+                raise FloatingPointError(f"the particles' sub-step collapsed to {ds:.3g} s at t = {s:.6g} s")
             ds = min(ds, t1 - s)
             xb = self.sph.verlet.wrapped(xb + ds * vb)
             a = (s + ds - t) / dt
@@ -318,7 +321,7 @@ def solve(scene, settings: HybridSettings):
     open_ = tuple(side for side in scene.sides if scene.boundaries[side] == "outflow")
     sph = GasSPH(scene, kernel, eta, region, open_)
     coupling = Coupling(scene, grid, stepper, sph, per_cell, eta, settings.threshold, sensor, settings.buffer,
-                        Switches(alpha_max, alpha_min, alpha_u), settings.cfl_sph)
+                        Switches(alpha_max, alpha_min, alpha_u), settings.cfl_sph, DT_FLOOR * settings.t_end)
     with compiling("hybrid", settings.progress) as compiled:
         jax.block_until_ready(stepper.one_step(stepper.start(U), 0.0, 0.0))
         # (the first evaluation compiles, or loads, the SPH kernels)

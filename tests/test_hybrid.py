@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import partmesh
-from partmesh.cases.errors import InputError
+from partmesh.cases.errors import InputError, SolverFailed
 from partmesh.compare.metrics import field_error
 from partmesh.hybrid.cells import cell_of, dilated, flagged, lattice, relaid, relative_jumps, ring, sensed_jumps
 from partmesh.hybrid.exchange import cloud, deposited, interpolated, matched
@@ -233,6 +233,15 @@ def test_hybrid_sod_holds_particles_only_near_the_waves():
 def test_hybrid_refuses_bad_settings_in_one_sentence(settings, words):
     with pytest.raises(InputError, match=words):
         partmesh.run(SOD, "hybrid", progress=False, **settings)
+
+
+def test_a_collapsed_particle_sub_step_stops_the_run_with_what_it_computed():
+    # a Courant number that is in range but leaves the sub-steps too short to end the run: the grid's own step
+    # is fine, so the particles' sub-step has to be held to the loop's floor (DT_FLOOR t_end) too
+    with pytest.raises(SolverFailed, match=r"^hybrid failed at t = .*: the particles' sub-step collapsed to "
+                                           r"[0-9.e-]+ s at t = 0 s\.$") as failure:
+        partmesh.run("sod", "hybrid", dx=1 / 40, t_end=0.01, cfl_sph=1e-300, progress=False)
+    assert failure.value.partial is not None and failure.value.partial.attrs["status"] == "failed"
 
 
 def test_hybrid_refuses_scenes_with_obstacles():
