@@ -31,8 +31,9 @@ class DeviceLoop:
     and returned with the stretch."""
 
     def __init__(self, step: Callable, n_probes: int, n_forces: int, n_records: int, per_step: int = 1,
-                 halts: bool = False):
+                 halts: bool = False, enter: Callable | None = None, leave: Callable | None = None):
         self.step, self.n_records = step, int(n_records)
+        self.enter, self.leave = enter or _same, leave or _same
         self.n_probes, self.n_forces = n_probes, n_forces
         self.per_step, self.halts = int(per_step), halts
         self._compiled, self._shapes = None, None
@@ -64,8 +65,9 @@ class DeviceLoop:
             return (state, jnp.where(halted, t, t_new), dt_next, n + jnp.where(halted, 0, 1), dt, records, halted)
 
         zero = jnp.zeros((), t.dtype)
-        return jax.lax.while_loop(going, one_step, (state, t, dt_cfl, jnp.zeros((), jnp.int32), zero, records,
-                                                    jnp.zeros((), bool)))
+        state, *rest = jax.lax.while_loop(going, one_step, (self.enter(state), t, dt_cfl, jnp.zeros((), jnp.int32),
+                                                            zero, records, jnp.zeros((), bool)))
+        return self.leave(state), *rest
 
     def compile(self, state) -> None:
         """Compile the loop for the shapes of ``state`` (float64 times), and
@@ -98,12 +100,19 @@ class DeviceLoop:
         return Stretch(reached, float(t1), dt_next, dt_tried, times, probes, forces, steps=n)
 
 
+def _same(state):
+    return state
+
+
 def device_loop(step: Callable, n_probes: int, n_forces: int, n_records: int = 1024, per_step: int = 1,
-                halts: bool = False) -> DeviceLoop:
+                halts: bool = False, enter: Callable | None = None, leave: Callable | None = None) -> DeviceLoop:
     """The compiled stretch loop of ``step``, whose probes and side forces
     are ``n_probes`` and ``n_forces`` numbers, ``per_step`` records of them a
     step (:class:`DeviceLoop`); ``halts``: ``step`` returns a fifth value,
-    True where it did not step (the loop stops there, its time unchanged)."""
-    return DeviceLoop(step, n_probes, n_forces, n_records, per_step, halts)
+    True where it did not step (the loop stops there, its time unchanged);
+    ``enter(state)`` and ``leave(state)``, where given, turn the stretch's
+    state into the one ``step`` takes and back, once a stretch (in the
+    compiled loop)."""
+    return DeviceLoop(step, n_probes, n_forces, n_records, per_step, halts, enter, leave)
 
 

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -376,48 +376,93 @@ def strip_rows(shape) -> int | None:
     return max(4, min(shape[0] // 2, STRIP_CELLS // int(np.prod(shape[1:]))))
 
 
-def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into, rings: Rings | None = None,
+class Paired(NamedTuple):
+    """A state stepped in strips (:func:`strip_attempt`), kept as two grids:
+    each variable's array holds the state at half ``current`` of its first
+    axis (of length 2) and the state before it at the other half, which the
+    next step overwrites. A step so reads one half and writes the other in
+    place: no pass over the grid clears, allocates or copies a state (as a
+    new state beside the old would: cleared before the strips write it,
+    then copied into the stepping loop's state)."""
+
+    halves: tuple
+    current: jax.Array
+
+    @classmethod
+    def of(cls, U) -> "Paired":
+        """The pair holding ``U`` (in both halves)."""
+        return cls(tuple(jnp.stack([u, u]) for u in U), jnp.zeros((), jnp.int32))
+
+    def state(self) -> tuple:
+        """The current state ``U``."""
+        return tuple(jax.lax.dynamic_index_in_dim(a, self.current, keepdims=False) for a in self.halves)
+
+    def replaced(self, U) -> "Paired":
+        """The pair whose current state is ``U`` in place of its own."""
+        return Paired(tuple(_put_rows(a, u, self.current, 0) for a, u in zip(self.halves, U)), self.current)
+
+
+def _rows(a, half, start, n: int):
+    """``n`` rows of half ``half`` of a pair's array ``a`` (:class:`Paired`) from row ``start``."""
+    return jax.lax.dynamic_slice(a, _corner(a, half, start), (1, n) + a.shape[2:])[0]
+
+
+def _put_rows(a, rows, half, start):
+    """``a`` (a pair's array) with ``rows`` written into half ``half`` from row ``start``."""
+    return jax.lax.dynamic_update_slice(a, rows[None], _corner(a, half, start))
+
+
+def _corner(a, half, start) -> tuple:
+    """The index of row ``start`` of half ``half`` of a pair's array ``a``, in one integer type."""
+    return tuple(jnp.asarray(i, jnp.int32) for i in (half, start) + (0,) * (a.ndim - 2))
+
+
+def strip_attempt(pair: Paired, allowed, dt, scheme: Scheme, rows: int, gate, states, rings: Rings | None = None,
                   after: Callable | None = None):
-    """``(U^{n+1}, ok, side_forces, dt_next)`` of a 2D or 3D grid without bodies,
+    """``(pair', ok, side_forces, dt_next)`` of a 2D or 3D grid without bodies,
     stepped in strips of ``rows`` rows of its first array axis (y in 2D, z in 3D; ghost cells, slopes, predictor,
     fluxes, update and CFL step of one strip, then the next): the same
     arithmetic cell by cell as the whole grid's pipeline, but each strip's
     intermediate arrays stay in the processor's caches, where the whole
     grid's spill to memory from about 10⁵ cells on (a 2048² step at a third
     of a 256² step's rate per cell). ``allowed``: the cells second order,
-    on the interior plus one ghost layer; ``states``: the inflow states;
-    ``into``: arrays of ``U``'s shapes that the strips overwrite with
-    ``U^{n+1}`` (the previous attempt's, so that no pass over the grid
-    allocates or copies them). Where ``rows`` does not divide the grid, the
+    on the interior plus one ghost layer; ``states``: the inflow states.
+    The state is ``pair``'s current half (:class:`Paired`); the strips
+    write ``U^{n+1}`` over its other half, which ``pair'`` makes current.
+    Where ``rows`` does not divide the grid, the
     last strip ends at the last row and overlaps the one before: its
     overlapping rows come out the same and count once in the side forces.
     ``after(U_s, start)``, where given, changes each updated strip (beginning at row ``start``) before
     its CFL step is taken (the programmed burn). Beside a charge, a strip whose cells and ghost rows hold no
     explosive (its three scalars zero, as they stay) is stepped with the air's ideal-gas kernels."""
-    ny, g = U[0].shape[0], N_GHOST
+    ny, g = pair.halves[0].shape[1], N_GHOST
+    now = pair.current
     last = ny - rows
     across = tuple(range(scheme.dim - 1))  # the directions along a strip (x; x and y in 3D)
     crowding = None if rings is None else rings.crowding
 
-    def stepper(scheme, U, states, after):
-        """The step of one strip of ``U`` (a state of ``scheme``'s layout): ``(start, counted, allowed_s) ->
-        (U_s, ok_s, forces_s, dt_s)``."""
+    def stepper(scheme, chosen, states, after):
+        """The step of one strip of the variables ``chosen`` (indices into the pair's halves) as a state of
+        ``scheme``: ``(start, counted, allowed_s, halves) -> (U_s, ok_s, forces_s, dt_s)``, reading the
+        current half of ``halves`` (the strips' loop carries the pair it writes)."""
         gas = scheme.gas
         # the strip axis's ghost rows: those of the first and last rows alone, ghosted as the whole grid is
-        edges = tuple(jnp.concatenate([u[:g], u[-g:]]) for u in U)
+        edges = tuple(jnp.concatenate([_rows(pair.halves[i], now, 0, g), _rows(pair.halves[i], now, ny - g, g)])
+                      for i in chosen)
         edges = staged(lambda E: ghosted_primitive(E, states, scheme), gate)(edges)
 
         def window(U, start):
             """The strip's primitive state with its ghost cells: its neighbours' rows or the end sides' ghosts."""
-            above = [jax.lax.dynamic_slice_in_dim(u, jnp.maximum(start - g, 0), g) for u in U]
-            below = [jax.lax.dynamic_slice_in_dim(u, jnp.minimum(start + rows, ny - g), g) for u in U]
-            inner = [jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U]
+            above = [_rows(u, now, jnp.maximum(start - g, 0), g) for u in U]
+            below = [_rows(u, now, jnp.minimum(start + rows, ny - g), g) for u in U]
+            inner = [_rows(u, now, start, rows) for u in U]
             W = primitive(tuple(jnp.concatenate(parts) for parts in zip(above, inner, below)), gas)
             W = with_ghosts(W, scheme.kinds, states, directions=across)
             return tuple(jnp.concatenate([jnp.where(start == 0, e[:g], w[:g]), w[g:-g],
                                           jnp.where(start == last, e[-g:], w[-g:])]) for w, e in zip(W, edges))
 
-        def step(start, counted, allowed_s):
+        def step(start, counted, allowed_s, halves):
+            U = tuple(halves[i] for i in chosen)
             Wg = staged(window, gate)(U, start)
             slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
             Wh, ok_s = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
@@ -425,51 +470,55 @@ def strip_attempt(U, allowed, dt, scheme: Scheme, rows: int, gate, states, into,
             fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok_s)
                       for d in range(scheme.dim)]
 
-            def updated(F, Wh, counted):
-                U_s = tuple(jax.lax.dynamic_slice_in_dim(u, start, rows) for u in U)
+            def updated(F, Wh, counted, U):
+                U_s = tuple(_rows(u, now, start, rows) for u in U)
                 U_s, forces = flux_update(U_s, F, dt, scheme, Wh, rings=rings, counted=counted)
                 if after is not None:
                     U_s = after(U_s, start)
                 return U_s, forces, stable_dt(U_s, gas, scheme.dx, scheme.cfl, None, crowding)
 
-            U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted)
+            U_s, forces_s, dt_s = staged(updated, gate)(fluxes, Wh, counted, U)
             return U_s, ok_s, forces_s, dt_s
         return step
 
-    step = stepper(scheme, U, states, after)
+    every = tuple(range(len(pair.halves)))
+    step = stepper(scheme, every, states, after)
     if scheme.mixture is not None:
         # a strip whose cells and ghost rows hold no explosive is stepped as the air it is, at the gas's cost
-        rho, momentum, scalars, energy = parts(U, scheme.gas)
-        euler = [*range(1 + len(momentum)), len(U) - 1]  # (ρ, momentum, E)
-        air = stepper(dataclasses.replace(scheme, mixture=None), (rho, *momentum, energy), states[:, euler], None)
+        n = first_scalar(every, scheme.gas)
+        scalars = every[n:-1]
+        euler = [*every[:n], every[-1]]  # (ρ, momentum, E)
+        air = stepper(dataclasses.replace(scheme, mixture=None), euler, states[:, euler], None)
 
-        def air_step(start, counted, allowed_s):
-            U_s, ok_s, forces_s, dt_s = air(start, counted, allowed_s)
+        def air_step(start, counted, allowed_s, halves):
+            U_s, ok_s, forces_s, dt_s = air(start, counted, allowed_s, halves)
             zero = jnp.zeros_like(U_s[0])
             return (*U_s[:-1], *(zero,) * scheme.mixture.scalars, U_s[-1]), ok_s, forces_s, dt_s
 
         mixture_step = step
 
-        def step(start, counted, allowed_s):
+        def step(start, counted, allowed_s, halves):
             lo = jnp.clip(start - g, 0, ny - rows - 2 * g)
-            charged = jnp.any(jnp.stack([jnp.any(jax.lax.dynamic_slice_in_dim(q, lo, rows + 2 * g) != 0.0)
-                                         for q in scalars]))
-            return jax.lax.cond(charged, mixture_step, air_step, start, counted, allowed_s)
+            charged = jnp.any(jnp.stack([jnp.any(_rows(halves[i], now, lo, rows + 2 * g) != 0.0) for i in scalars]))
+            return jax.lax.cond(charged, mixture_step, air_step, start, counted, allowed_s, halves)
+
+    later = 1 - now
 
     def strip(k, carry):
-        U_new, ok, forces, dt_next = carry
+        halves, ok, forces, dt_next = carry
         start = jnp.minimum(k * rows, last)
-        counted = (start + jnp.arange(rows) >= k * rows).astype(U[0].dtype)
+        counted = (start + jnp.arange(rows) >= k * rows).astype(halves[0].dtype)
         allowed_s = jax.lax.dynamic_slice_in_dim(allowed, start, rows + 2)
-        U_s, ok_s, forces_s, dt_s = step(start, counted, allowed_s)
+        U_s, ok_s, forces_s, dt_s = step(start, counted, allowed_s, halves)
         # the sides along the strips through every strip; the end sides through the first and last strips' outer faces
         sides = jnp.array([True, True] * len(across) + [start == 0, start == last], dtype=forces_s.dtype)
-        return (tuple(jax.lax.dynamic_update_slice_in_dim(a, b, start, 0) for a, b in zip(U_new, U_s)),
+        return (tuple(_put_rows(a, b, later, start) for a, b in zip(halves, U_s)),
                 jax.lax.dynamic_update_slice_in_dim(ok, ok_s, start, 0), forces + sides * forces_s,
                 jnp.minimum(dt_next, dt_s))
 
-    start = (tuple(into), jnp.zeros(allowed.shape, bool), jnp.zeros(2 * scheme.dim), jnp.array(jnp.inf))
-    return jax.lax.fori_loop(0, -(-ny // rows), strip, start)
+    start = (pair.halves, jnp.zeros(allowed.shape, bool), jnp.zeros(2 * scheme.dim), jnp.array(jnp.inf))
+    halves, ok, forces, dt_next = jax.lax.fori_loop(0, -(-ny // rows), strip, start)
+    return Paired(halves, later), ok, forces, dt_next
 
 
 def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable, allowed, retries: int, start):
@@ -580,41 +629,66 @@ class Stepper:
             return U, cfl_dt(U), cells, jnp.sum(mass * open_volume), jnp.sum(energy * open_volume)
 
         def step(state, t, dt):
-            U, floors = state
+            held, floors = state
+            paired = isinstance(held, Paired)  # (stepped in strips: see :meth:`paired`)
+            shape = held.halves[0].shape[1:] if paired else held[0].shape
             gate = jnp.isfinite(dt)
-            rings = grid_rings(scheme, U[0].shape[-1])
-            rows = strip_rows(U[0].shape) if immersed is None else None
-            if rows is None:
-                Wg = staged(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids), gate)(U, inflow(t))
+            rings = grid_rings(scheme, shape[-1])
+            if not paired:
+                Wg = staged(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids), gate)(held, inflow(t))
                 slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
 
             def attempt(allowed, previous):
-                if rows is not None:
-                    U_new, ok, forces, dt_next = strip_attempt(U, allowed, dt, scheme, rows, gate, inflow(t),
-                                                               previous[0], rings, lambda U, start: burn(U, t + dt,
-                                                                                                         start))
-                    probes = probe_sampler(U_new) if probe_sampler is not None else jnp.zeros(0)
-                    return (U_new, dt_next, forces, probes), ok
+                if paired:  # (stepped from the step's state: a redone step's pair holds it at the same half)
+                    pair, ok, forces, dt_next = strip_attempt(Paired(previous[0].halves, held.current), allowed, dt,
+                                                              scheme, strip_rows(shape), gate, inflow(t), rings,
+                                                              lambda U, start: burn(U, t + dt, start))
+                    probes = probe_sampler(pair.state()) if probe_sampler is not None else jnp.zeros(0)
+                    return (pair, dt_next, forces, probes), ok
                 Wh, ok = staged(lambda Wg, s, allowed: half_step(Wg, s, dt, scheme, allowed, rings), gate)(
                     Wg, slopes, allowed)
                 fluxes = [staged(lambda Wh, s, ok, d=d: face_flux(Wh, s, ok, d, scheme), gate)(Wh, slopes[d], ok)
                           for d in range(scheme.dim)]
-                return update(U, fluxes, Wh, t, dt, gate), ok
+                return update(held, fluxes, Wh, t, dt, gate), ok
 
-            def allowed_after(ok, U_new):
-                return staged(lambda ok, U_new: second_order_allowed(ok, U_new, scheme.gas), gate)(ok, U_new)
+            def allowed_after(ok, new):
+                return staged(lambda ok, new: second_order_allowed(ok, new.state() if paired else new, scheme.gas),
+                              gate)(ok, new)
 
-            first = jnp.ones(tuple(n + 2 for n in U[0].shape), bool)
-            start = (tuple(jnp.zeros_like(u) for u in U), jnp.zeros(()), jnp.zeros(2 * scheme.dim),
-                     jnp.zeros(n_probes if probe_sampler else 0))
-            (U_new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after,
-                                                                     staged(floored, gate), first, self.RETRIES, start)
-            return (U_new, floors + added), dt_next, probes, forces
+            def floored_held(new):
+                if not paired:
+                    return floored(new)
+                U, *rest = floored(new.state())
+                return (new.replaced(U), *rest)
+
+            first = jnp.ones(tuple(n + 2 for n in shape), bool)
+            start = (held if paired else tuple(jnp.zeros_like(u) for u in held), jnp.zeros(()),
+                     jnp.zeros(2 * scheme.dim), jnp.zeros(n_probes if probe_sampler else 0))
+            (new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after, staged(floored_held, gate),
+                                                                   first, self.RETRIES, start)
+            return (new, floors + added), dt_next, probes, forces
+
+        def paired(state):
+            """The loop's state of a run's ``(U, floors)``: a grid stepped in strips holds ``U`` as a
+            :class:`Paired`, whose halves the steps write in turn."""
+            U, floors = state
+            if immersed is not None or strip_rows(U[0].shape) is None:
+                return state
+            return Paired.of(U), floors
+
+        def unpaired(state):
+            """The run's ``(U, floors)`` of a loop's state (:func:`paired`)."""
+            held, floors = state
+            return (held.state(), floors) if isinstance(held, Paired) else state
+
+        def one_step(state, t, dt):
+            new, dt_next, probes, forces = step(paired(state), t, dt)
+            return unpaired(new), dt_next, probes, forces
 
         self.step = step
         #: one step, compiled when first called
-        self.one_step = jax.jit(step)
-        self.stretch = device_loop(step, n_probes, 2 * scheme.dim, n_records)
+        self.one_step = jax.jit(one_step)
+        self.stretch = device_loop(step, n_probes, 2 * scheme.dim, n_records, enter=paired, leave=unpaired)
         self.initial_dt = jax.jit(cfl_dt)
 
     @staticmethod
