@@ -630,16 +630,16 @@ class Stepper:
 
         def step(state, t, dt):
             held, floors = state
-            paired = isinstance(held, Paired)  # (stepped in strips: see :meth:`paired`)
-            shape = held.halves[0].shape[1:] if paired else held[0].shape
+            in_strips = isinstance(held, Paired)  # (see paired below)
+            shape = held.halves[0].shape[1:] if in_strips else held[0].shape
             gate = jnp.isfinite(dt)
             rings = grid_rings(scheme, shape[-1])
-            if not paired:
+            if not in_strips:
                 Wg = staged(lambda U, states: ghosted_primitive(U, states, scheme, fill_solids), gate)(held, inflow(t))
                 slopes = staged(lambda Wg: slopes_of(Wg, scheme), gate)(Wg)
 
             def attempt(allowed, previous):
-                if paired:  # (stepped from the step's state: a redone step's pair holds it at the same half)
+                if in_strips:  # (stepped from the step's state: a redone step's pair holds it at the same half)
                     pair, ok, forces, dt_next = strip_attempt(Paired(previous[0].halves, held.current), allowed, dt,
                                                               scheme, strip_rows(shape), gate, inflow(t), rings,
                                                               lambda U, start: burn(U, t + dt, start))
@@ -652,17 +652,17 @@ class Stepper:
                 return update(held, fluxes, Wh, t, dt, gate), ok
 
             def allowed_after(ok, new):
-                return staged(lambda ok, new: second_order_allowed(ok, new.state() if paired else new, scheme.gas),
+                return staged(lambda ok, new: second_order_allowed(ok, new.state() if in_strips else new, scheme.gas),
                               gate)(ok, new)
 
             def floored_held(new):
-                if not paired:
+                if not in_strips:
                     return floored(new)
                 U, *rest = floored(new.state())
                 return (new.replaced(U), *rest)
 
             first = jnp.ones(tuple(n + 2 for n in shape), bool)
-            start = (held if paired else tuple(jnp.zeros_like(u) for u in held), jnp.zeros(()),
+            start = (held if in_strips else tuple(jnp.zeros_like(u) for u in held), jnp.zeros(()),
                      jnp.zeros(2 * scheme.dim), jnp.zeros(n_probes if probe_sampler else 0))
             (new, dt_next, forces, probes), added = with_fallbacks(attempt, allowed_after, staged(floored_held, gate),
                                                                    first, self.RETRIES, start)
