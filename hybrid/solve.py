@@ -408,8 +408,9 @@ class _Run(RunRecord):
         scheme = (f"hybrid: unsplit MUSCL-Hancock ({s['limiter']}, {s['riemann'].upper()}) on cells "
                   f"{c.cell[0]:g} m wide; grad-h SPH ({s['kernel']}, H = {s['eta']:g} (m/rho)^(1/d), Cullen-Dehnen "
                   f"viscosity, conduction) at spacing {s['dx']:g} m in the cells where the jump of "
-                  f"{s['sensor']} (sensor) exceeds {s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; boundary particles from the grid; "
-                  "particles matched to the grid's flux and deposited back (cloud-in-cell, conservative)")
+                  f"{s['sensor']} (sensor) exceeds {s['threshold']:g} (+ {s['buffer']} cells), sub-cycled; "
+                  "boundary particles from the grid; particles matched to the grid's flux and deposited back "
+                  "(cloud-in-cell, conservative)")
         attrs = {"fv_cells": c.n_cells, "particles_max": c.most_particles, "sph_substeps": c.substeps,
                  "particle_steps": c.particle_steps, "fluid_particles_max": c.most_fluid,
                  "fluid_particle_steps": c.fluid_steps, "neighbour_searches": c.sph.counters[1],
