@@ -18,7 +18,7 @@ AXES = ("x", "y", "z")
 FIELDS_3D = ("rho", "u", "v", "w", "p", "e")
 
 
-def sod_3d(axis="x", preset="sod", width=0.04, t_end=None, gamma=1.4, nx_out=400):
+def sod_3d(axis="x", preset="sod", width=0.04, t_end=None, gamma=1.4, nx_out=400, ends="reflect"):
     """The 1D Riemann problem of ``sod`` (``preset``: sod, toro123,
     strong_shock; diaphragm at 0.5) in a tube of square cross-section
     ``width`` along ``axis`` of a closed 3D box: its sides slip walls, so
@@ -27,7 +27,8 @@ def sod_3d(axis="x", preset="sod", width=0.04, t_end=None, gamma=1.4, nx_out=400
     the presets' waves do not reach them by their end times (Sod's
     rarefaction head is at 0.26 and its shock at 0.85 at t = 0.2), so the
     tube holds the unbounded 1D solution (a later ``t_end`` sees them
-    reflect)."""
+    reflect). ``ends="outflow"`` opens the tube's two ends instead, as the
+    1D ``sod``'s: the waves leave through them."""
     axis = checks.choice("axis", axis, AXES)
     checks.choice("preset", preset, tuple(RIEMANN_PRESETS))
     left, right, t_default = RIEMANN_PRESETS[preset]
@@ -35,6 +36,7 @@ def sod_3d(axis="x", preset="sod", width=0.04, t_end=None, gamma=1.4, nx_out=400
     t_end = checks.positive("t_end", t_default if t_end is None else t_end)
     gamma = checks.in_range("gamma", gamma, 1.0, 5.0, lo_open=True)
     nx_out = checks.integer("nx_out", nx_out, 10)
+    ends = checks.choice("ends", ends, ("reflect", "outflow"))
     a = AXES.index(axis)
     domain = tuple((0.0, 1.0) if k == a else (0.0, width) for k in range(3))
     x0 = 0.5
@@ -57,9 +59,10 @@ def sod_3d(axis="x", preset="sod", width=0.04, t_end=None, gamma=1.4, nx_out=400
 
     return Scene(
         name="sod_3d",
-        parameters=dict(axis=axis, preset=preset, width=width, t_end=t_end, gamma=gamma, nx_out=nx_out),
+        parameters=dict(axis=axis, preset=preset, width=width, t_end=t_end, gamma=gamma, nx_out=nx_out, ends=ends),
         dim=3, domain=domain, gamma=gamma, initial=initial,
-        boundaries={side: "reflect" for side in ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")},
+        boundaries={side: ends if side[0] == axis else "reflect" for side in ("x_lo", "x_hi", "y_lo", "y_hi",
+                                                                                   "z_lo", "z_hi")},
         output=output, dx=1.0 / nx_out, t_end=t_end, probes=(Probe("mid", *probe[:2], z=probe[2]),),
         fields=FIELDS_3D, exact_solution=exact_solution,
         description=f"Shock tube along {axis} of a 3D box: the 1D answer whichever axis it lies along.",

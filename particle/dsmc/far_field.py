@@ -8,7 +8,7 @@ import numpy as np
 
 
 def far_field_state(inside, far, axis, normal, gamma):
-    """(rho, u, v, p) beyond an open side whose outward normal is ``normal``
+    """(rho, u, v[, w], p) beyond an open side whose outward normal is ``normal``
     (±1) along ``axis``, from the state ``inside`` next to it and the
     undisturbed state ``far`` (Riemann invariants of the characteristics
     normal to the side; e.g. Blazek, "Computational Fluid Dynamics", §8.4):
@@ -38,4 +38,4 @@ def far_field_state(inside, far, axis, normal, gamma):
     rho = (c * c / (gamma * entropy)) ** (1.0 / (gamma - 1.0))
     vel = list(vel_i if un > 0.0 else vel_f)
     vel[axis] = normal * un
-    return float(rho), float(vel[0]), float(vel[1]), float(entropy * rho**gamma)
+    return float(rho), *(float(q) for q in vel), float(entropy * rho**gamma)

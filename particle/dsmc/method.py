@@ -70,9 +70,6 @@ class DSMCSettings(Settings):
         super().check_together(scene)
         if scene.obstacles and scene.dim != 2:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in 2D only.")
-        if scene.dim == 3 and any(scene.boundaries[side] not in ("reflect", "periodic") for side in scene.sides):
-            raise Unsupported(f"scene {scene.name}: dsmc runs 3D boxes with reflecting and periodic sides only so "
-                              "far (no open side's reservoir in 3D).")
         if scene.geometry == "axisymmetric" and scene.obstacles:
             raise Unsupported(f"scene {scene.name}: dsmc models obstacles in planar scenes only (a molecule's "
                               "straight flight is a curve in the r-z plane).")

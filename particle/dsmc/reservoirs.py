@@ -37,7 +37,7 @@ def boundary_layer(side, dim):
 class Reservoirs:
     """The reservoirs beyond the open sides of one run on a cell grid from
     ``lo`` to ``hi`` whose initial state per cell is ``initial_fields``
-    (rho, u, v, p): particles of ``mass`` with ``zeta`` internal degrees,
+    (rho, u, v, w, p): particles of ``mass`` with ``zeta`` internal degrees,
     drawn from ``seed``; densities and pressures scaled by ``fill`` (a ring
     cell's, in r–z); none put inside the obstacle ``polygons``.
 
@@ -61,15 +61,15 @@ class Reservoirs:
         side s at step n from key 2 ncell + s."""
         dim = self.scene.dim
         axis, upper = side // 2, side % 2 == 1
-        rho, u, v, p = self.outside_state(side, t, cells)
-        normal_in = -(u, v)[axis] if upper else (u, v)[axis]
+        rho, *velocity, p = self.outside_state(side, t, cells)
+        normal_in = -velocity[axis] if upper else velocity[axis]
         depth = dt * (normal_in + RESERVOIR_SIGMAS * np.sqrt(p / rho))
         if depth <= 0.0:
             return np.zeros((0, dim)), np.zeros((0, 3)), np.zeros(0)
         corner, size = self.lo.copy(), self.hi - self.lo
         corner[axis], size[axis] = (self.hi[axis] if upper else self.lo[axis] - depth), depth
         x, vel, e = particles_in_cells(corner, size, np.ones(dim, dtype=np.int64),
-                                       *(np.array([q], dtype=float) for q in (rho * self.fill, u, v, 0.0,
+                                       *(np.array([q], dtype=float) for q in (rho * self.fill, *velocity,
                                                                               p * self.fill)),
                                        self.mass, self.zeta, self.seed, n, 2 * self.ncell + side)
         if self.polygons is not None:  # an obstacle may run out through the side: no gas inside it
@@ -78,8 +78,8 @@ class Reservoirs:
         return x, vel, e
 
     def outside_state(self, side, t, cells):
-        """(rho, u, v, p) of the gas beyond an open side: an inflow's imposed
-        state; at an outflow, the characteristic far-field state between
+        """(rho, u, v, w, p) of the gas beyond an open side: an inflow's imposed
+        state (w = 0); at an outflow, the characteristic far-field state between
         the layer of cells next to the side and the scene's initial state
         there, the undisturbed gas. The layer's state comes from its moments
         in ``cells`` averaged over the last ~``OUTFLOW_MEMORY`` steps:
@@ -89,7 +89,8 @@ class Reservoirs:
         its velocity is 0 and its energy thermal."""
         boundary = self.scene.boundaries[self.scene.sides[side]]
         if isinstance(boundary, Inflow):
-            return tuple(float(q) for q in boundary.state(t))
+            rho, u, v, p = (float(q) for q in boundary.state(t))
+            return rho, u, v, 0.0, p
         sums = self._layer_sums(side, cells)
         running = self.running.get(side, sums)
         running = self.running[side] = running + (sums - running) / OUTFLOW_MEMORY
@@ -107,9 +108,9 @@ class Reservoirs:
                          cells.s2.reshape(shape)[layer].sum(), cells.volume.reshape(shape)[layer].sum()])
 
     def _layer_state(self, sums):
-        """(rho, u, v, p) from a layer's moments (:meth:`_layer_sums`); the
+        """(rho, u, v, w, p) from a layer's moments (:meth:`_layer_sums`); the
         velocity along an unresolved axis is 0."""
         rho, U, p, _ = moment_state(sums[0:1], sums[None, 1:4], sums[4:5], sums[5:6], 1, self.mass,
                                     self.scene.gamma, self.scene.dim)
-        u, v = U[0, 0], (U[0, 1] if self.scene.dim == 2 else 0.0)
-        return float(rho[0]), float(u), float(v), float(p[0])
+        velocity = (float(U[0, a]) if a < self.scene.dim else 0.0 for a in range(3))
+        return float(rho[0]), *velocity, float(p[0])

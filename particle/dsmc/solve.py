@@ -178,7 +178,7 @@ class _Gas:
         self.radial = scene.geometry == "axisymmetric"
         self.fill = fill_factor(self.spacing[0]) if self.radial else 1.0
         self.mass = float(rho.min()) * self.fill * float(np.prod(self.spacing)) / ppc
-        self.initial_fields = (rho, u, v, p)  # the scene's initial state per cell: far field of an outflow
+        self.initial_fields = (rho, u, v, w, p)  # the scene's initial state per cell: far field of an outflow
         self.ncell = int(np.prod(self.shape))
         #: under ``redraw="local"``, the flight time since each cell's last redraw and the reach C Δx of a
         #: redraw interval (:mod:`partmesh.particle.dsmc.intervals`); None: every cell every step
@@ -243,7 +243,7 @@ class _Gas:
         F_N σ_ref = m/(√2 ρ_ref λ_ref) at g_ref = 4 √(θ_ref/π). Refuses a
         mean free path that makes a particle of the densest initial cell
         collide more than MAX_COLLISIONS_PER_STEP times in a step."""
-        rho, _, _, p = (q.reshape(-1) for q in self.initial_fields)
+        rho, *_, p = (q.reshape(-1) for q in self.initial_fields)
         ref = int(np.argmin(rho))
         g_ref = 4.0 * np.sqrt(p[ref] / rho[ref] / np.pi)
         sigma = self.mass / (np.sqrt(2.0) * rho[ref] * mean_free_path)
