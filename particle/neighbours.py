@@ -203,7 +203,8 @@ def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, 
         if order[k] >= rows and not big[k]:
             continue
         Hcand = Hsmall if not big[k] else Hnone
-        c, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], e)
+        # (k as int64, as in the fill pass: prange's unsigned index would compile the scan a second time)
+        c, m = _visit(np.int64(k), xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], e)
         counts[order[k]] = c
         ncand[k] = m
     return counts, ncand.max()

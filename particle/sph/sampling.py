@@ -42,7 +42,13 @@ def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
                     den[c, p] += w
                     for f in range(k):
                         num[c, f, p] += values[f, j] * w
-    return num.sum(axis=0), den.sum(axis=0)
+    # the chunks added in their order, as num.sum(axis=0) would (whose 3D form compiles for seconds)
+    for c in range(1, n_chunks):
+        for p in range(n_points):
+            den[0, p] += den[c, p]
+            for f in range(k):
+                num[0, f, p] += num[c, f, p]
+    return num[0], den[0]
 
 
 @numba.njit(cache=True)
