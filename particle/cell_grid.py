@@ -17,6 +17,7 @@ from numba import prange
 
 from partmesh.cases.errors import InputError
 from partmesh.particle.positions import box_corners, ordered_box, periodicity, positions
+from partmesh.particle.threads import PRANGE_ONLY
 
 __all__ = ["CELL_MARGIN", "cell_grid", "cell_ids", "cell_support", "counting_sort", "nearby_maximum", "sort_order"]
 
@@ -41,7 +42,7 @@ def _cell_index(xa, origin, width, ncell, per):
     return c
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def cell_ids(x, origin, width, ncell, per):
     """Linear cell id ``(cz·ny + cy)·nx + cx`` of every particle."""
     n, dim = x.shape

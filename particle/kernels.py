@@ -84,6 +84,7 @@ import numpy as np
 from numba import prange
 
 from partmesh.cases.errors import InputError
+from partmesh.particle.threads import PRANGE_ONLY
 
 __all__ = [
     "KERNELS",
@@ -375,7 +376,7 @@ def _eval_one(kind, r, H, dim, which):
     return kernel_dwdh(kind, r, H, dim)
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _eval_many(kind, r, H, dim, which, out):
     for k in prange(r.size):
         out[k] = _eval_one(kind, r[k], H[k], dim, which)

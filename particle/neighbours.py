@@ -43,6 +43,7 @@ from partmesh.cases.errors import InputError
 from partmesh.particle.cell_grid import CELL_MARGIN, cell_grid, cell_ids, cell_support, counting_sort
 from partmesh.particle.pair_geometry import image, separations
 from partmesh.particle.positions import ordered_box, periodicity, positions
+from partmesh.particle.threads import PRANGE_ONLY
 
 __all__ = ["neighbour_lists", "neighbours", "renumbered"]
 
@@ -52,7 +53,7 @@ __all__ = ["neighbour_lists", "neighbours", "renumbered"]
 # --------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _gather(x, H, order, cid, ncell, origin, per, box):
     """Positions (wrapped into the box on periodic axes) and H in cell order,
     one array per axis (unused axes: empty), and each particle's (cx, cy, cz)."""
@@ -186,7 +187,7 @@ def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half,
     return cnt - 1, ncand  # the particle itself was counted (r = 0 < H_i)
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk, rows):
     """Neighbour count of every particle (by original index) found in its
     own stencil of ``sk[k]`` cells, and the largest candidate count (the
@@ -223,7 +224,7 @@ def _prefix(counts):
 _CHUNK = 256
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk,
                maxc, offsets, index, sort_lists, only_large, rows):
     """Write every particle's below ``rows`` (``only_large``: every large
@@ -275,7 +276,7 @@ def _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, stenc
             extra[j] += 1
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _sort_rows(rows, offsets, index):
     """Sort the lists of ``rows`` by neighbour id."""
     for t in prange(rows.size):
@@ -283,7 +284,7 @@ def _sort_rows(rows, offsets, index):
         index[a:b] = np.sort(index[a:b])
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _renumbered(offsets, index, order, new_id):
     n = order.size
     new_offsets = np.empty(n + 1, dtype=np.int64)

@@ -12,6 +12,7 @@ import numpy as np
 from numba import prange
 
 from partmesh.particle.positions import box_corners, periodicity, positions
+from partmesh.particle.threads import PRANGE_ONLY
 
 __all__ = ["image", "padded", "periods", "separation", "separations"]
 
@@ -71,7 +72,7 @@ def padded(a) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _separations(x, offsets, index, box, half):
     """``x_i − x_j`` (the minimum image where ``half`` is finite, for
     positions any number of periods apart) and its length."""

@@ -26,6 +26,14 @@ import numba
 #: runs with fewer particles than this step on one thread
 SERIAL_BELOW = 20_000
 
+#: numba's ``parallel`` options of every particle kernel: only the explicit
+#: ``prange`` loops run on the threads. With ``parallel=True`` numba also makes
+#: a parallel loop of every ``np.zeros``, whole-array expression and reduction,
+#: and compiles each as a function of its own (about a second apiece here);
+#: none of them is where a step spends its time.
+PRANGE_ONLY = dict(prange=True, comprehension=False, reduction=False, inplace_binop=False, setitem=False,
+                   numpy=False, stencil=False, fusion=False)
+
 #: how idle OpenMP threads wait, unless ``OMP_WAIT_POLICY`` is set already
 WAIT_POLICY = "PASSIVE"
 

@@ -44,6 +44,7 @@ from partmesh.particle.dsmc.intervals import EVERY_CELL
 from partmesh.particle.dsmc.move import REFLECT
 from partmesh.particle.dsmc.profile import NO_SLOPES, redrawn_about_profile
 from partmesh.particle.dsmc.random import stream, uniform
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: bounces off the outer cylinder followed within one step (a molecule grazing it)
 MAX_BOUNCES = 64
@@ -64,7 +65,7 @@ def fill_factor(dr: float) -> float:
     return math.pi * dr
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def radial_flight(x, v, w, dt, R, outer):
     """The radial part of the free flight (module docstring) of particles
     ``x`` (n, 2: r, z) with velocities ``v`` (n, 3: v_r, v_z, v_θ) and
@@ -115,7 +116,7 @@ def radial_flight(x, v, w, dt, R, outer):
     return gone, delivered
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def resampled_starts(w, start, target, due):
     """The cell starts of the particles :func:`resampled_redraw` makes of
     those in cell order (cell c holds ``start[c]:start[c+1]``, weights
@@ -168,7 +169,7 @@ def resampled_redraw(x, v, e, w, start, target, zeta, seed, step, mass, momentum
     return xs, vs, es, ws, first
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def _resample_into(x, v, e, w, start, first, zeta, seed, step, mass, momentum, energy, xs, vs, es, ws, slopes, due):
     """:func:`resampled_redraw` into ``xs, vs, es, ws``, cell c's new
     particles at ``first[c]:first[c+1]``."""

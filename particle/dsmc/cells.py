@@ -15,6 +15,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from partmesh.particle.threads import PRANGE_ONLY
+
 #: the weights of unweighted (planar) particles for :func:`sort_into_cells`
 UNWEIGHTED = np.empty(0)
 
@@ -46,7 +48,7 @@ def _cell(x, i, lo, spacing, shape):
     return c
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def cell_index(x, lo, spacing, shape):
     """Linear cell index (x fastest) of positions ``x`` (n, dim) on the grid
     with origin ``lo``, ``spacing`` and ``shape`` (int64) per axis, clamped
@@ -58,7 +60,7 @@ def cell_index(x, lo, spacing, shape):
     return cell
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def sort_into_cells(x, v, e, w, keep, lo, spacing, shape, chunks, xs, vs, es, ws):
     """Copy the particles ``x`` (n, dim), ``v`` (n, 3), ``e`` (n,) and their
     weights ``w`` (n,; empty for unweighted particles, ``ws`` then empty too)

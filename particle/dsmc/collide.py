@@ -44,6 +44,7 @@ import numpy as np
 
 from partmesh.particle.dsmc.cells import record_cell_sums
 from partmesh.particle.dsmc.random import gamma, stream, uniform
+from partmesh.particle.threads import PRANGE_ONLY
 
 
 @numba.njit(cache=True, inline="always")
@@ -92,7 +93,7 @@ def _collide_pair(v, e, i, j, state, zeta, omega, z_rot):
     return state
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def collide(v, e, start, volume, dt, sigma, g_ref, omega, z_rot, zeta, seed, step, sigma_g_max,
             count, momentum, energy):
     """Binary collisions over ``dt`` in every cell (module docstring), in

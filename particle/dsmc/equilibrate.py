@@ -31,9 +31,10 @@ import numpy as np
 from partmesh.particle.dsmc.cells import record_cell_sums
 from partmesh.particle.dsmc.profile import redrawn_about_profile
 from partmesh.particle.dsmc.random import gamma, normal, stream
+from partmesh.particle.threads import PRANGE_ONLY
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
     energies ``e`` (n,) of the particles of every cell with ≥ 2 of them,

@@ -16,6 +16,7 @@ import numpy as np
 
 from partmesh.cases.errors import InputError
 from partmesh.particle.dsmc.random import gamma, normal, stream, uniform
+from partmesh.particle.threads import PRANGE_ONLY
 
 
 def internal_degrees(gamma: float) -> float:
@@ -36,7 +37,7 @@ def _count(state, expected):
     return state, int(np.floor(expected + xi))
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def particles_in_cells(lo, spacing, shape, rho, u, v, w, p, mass, zeta, seed, step, key0):
     """``(x, v, e)``: particles of mass ``mass`` filling the cells of a uniform
     grid (origin ``lo``, ``spacing`` and int64 ``shape`` per axis, dim = 1,

@@ -12,11 +12,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from partmesh.particle.threads import PRANGE_ONLY
+
 #: how a side treats a particle that reaches it
 REFLECT, PERIODIC, OPEN = 0, 1, 2
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def free_flight(x, v, dt, lo, hi, sides, w=None):
     """Move particles ``x`` (n, dim) with velocities ``v`` (n, 3) for ``dt``,
     in place, in the box ``[lo, hi]``; ``sides`` (2·dim,) holds REFLECT,

@@ -61,6 +61,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.dsmc.cells import weighted_sums
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: the mean-velocity profiles of the redraw
 PROFILES = ("uniform", "linear")
@@ -74,7 +75,7 @@ NEGLIGIBLE_PROFILE = 1e-24
 MIN_TEMPERATURE_RATIO = 0.25
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def cell_means(v, e, w, start, zeta):
     """Per cell (cell c holds ``start[c]:start[c+1]``): the particle count
     and the means (ncell, 4) U = Σ w v / Σ w (three components) and
@@ -107,7 +108,7 @@ def limited_slopes(count, mean, shape, spacing, periodic) -> np.ndarray:
                            np.asarray(periodic, dtype=np.bool_))
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def _slopes_on_grid(count, mean, shape, spacing, periodic):
     """:func:`limited_slopes`, cell by cell: along axis a, cell c's
     neighbours are c ± stride_a, wrapped across the edge where the axis is

@@ -22,6 +22,7 @@ import numpy as np
 from partmesh.cases.errors import Unsupported
 from partmesh.cases.plane_geometry import segment_normals
 from partmesh.cases.shapes import Circle
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: bounces followed in one step before the safeguard takes over
 MAX_BOUNCES = 32
@@ -72,7 +73,7 @@ def _crossing(px, py, vx, vy, ax, ay, bx, by, nx, ny, t_max):
     return t
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def fly_past_obstacles(x, v, dt, segments, normals, start, bbox):
     """Move 2D particles ``x`` (n, 2), velocities ``v`` (n, 3), for ``dt``
     in place, reflecting specularly from the obstacle polygons (the domain's
@@ -152,7 +153,7 @@ def _obstacle_face_inside(px, py, segments, normals, start, bbox):
     return -1, 0.0
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def inside_obstacles(x, segments, normals, start, bbox):
     """True for the points ``x`` (n, 2) strictly inside an obstacle polygon."""
     n = x.shape[0]
@@ -162,7 +163,7 @@ def inside_obstacles(x, segments, normals, start, bbox):
     return inside
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def push_out_of_obstacles(x, v, segments, normals, start, bbox):
     """The safeguard: a particle inside a (convex) polygon is mirrored back
     across its nearest face and its velocity reflected if it points in.

@@ -20,6 +20,7 @@ import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape, shape_derivative
 from partmesh.particle.pair_geometry import separation
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: relative tolerance of the H iteration
 TOLERANCE = 1e-8
@@ -49,7 +50,7 @@ def _sums(i, H, m, r, neighbour, kind, dim):
 _CHUNK = 256
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, eta, n):
     """``(rho, H, omega, converged)`` for the first ``n`` particles (the
     fluid; ghosts follow them and only serve as neighbours) at positions

@@ -30,13 +30,14 @@ import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape_derivative
 from partmesh.particle.pair_geometry import separation
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: the columns of the per-particle table the pair loop reads (x: 0–2)
 _V, _M, _U, _RHO, _P, _C, _ALPHA, _ALPHA_U, _INV_H, _GRAD, _P_TERM, _VOLUME, _FIELDS = (
     3, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17)
 
 
-@numba.njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
+@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=True, error_model="numpy")
 def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n, chunks):
     """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u, interactions)`` for the
     first ``n`` particles (the fluid; ghosts after them only serve as

@@ -18,9 +18,10 @@ import numpy as np
 
 from partmesh.particle.cell_grid import counting_sort
 from partmesh.particle.kernels import kernel_w
+from partmesh.particle.threads import PRANGE_ONLY
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``(Σ_j f_j V_j W_pj, Σ_j V_j W_pj)`` at ``points`` (n_points, dim) for
     the ``values`` f (k, n): (k, n_points) and (n_points,), summing over
@@ -87,7 +88,7 @@ def _bucket(c, n, periodic):
     return c if 0 <= c < n else -1
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim):
     """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy, z0 + s dz)``
     of a uniform ``nz × ny × nx`` grid for the ``values`` f (k, n): (k, nz, ny, nx)
@@ -108,7 +109,10 @@ def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0,
     span_y = min(2 * reach_y + 1, ny) if periodic_y else 2 * reach_y + 1
     span_z = min(2 * reach_z + 1, nz) if periodic_z else 2 * reach_z + 1
     # line l = s·ny + r holds its particles in their input order: order[start[l]:start[l + 1]]
-    line = _rows_of(z, z0, dz, nz, periodic_z, Lz) * ny + _rows_of(y, y0, dy, ny, periodic_y, Ly)
+    line = _rows_of(z, z0, dz, nz, periodic_z, Lz)
+    row = _rows_of(y, y0, dy, ny, periodic_y, Ly)
+    for j in range(n):
+        line[j] = line[j] * ny + row[j]
     start, order = counting_sort(line, nz * ny)
     num = np.zeros((k, nz, ny, nx))
     den = np.zeros((nz, ny, nx))
@@ -153,7 +157,7 @@ def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0,
     return num, den
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def shepard_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim,
                     min_support):
     """``values`` (k, n) interpolated at the grid centres of

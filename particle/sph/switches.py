@@ -26,6 +26,8 @@ import math
 import numba
 import numpy as np
 
+from partmesh.particle.threads import PRANGE_ONLY
+
 
 @numba.njit(cache=True, inline="always")
 def _relaxed(alpha, a_loc, tau, dt, alpha_min):
@@ -34,7 +36,7 @@ def _relaxed(alpha, a_loc, tau, dt, alpha_min):
     return max(a, alpha_min)
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def cullen_dehnen(alpha, div_v, div_v_old, curl_v, vsig, H, dt, alpha_max, alpha_min):
     """The updated viscosity coefficients (a new array)."""
     n = alpha.shape[0]
@@ -50,7 +52,7 @@ def cullen_dehnen(alpha, div_v, div_v_old, curl_v, vsig, H, dt, alpha_max, alpha
     return out
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def conduction_switch(alpha_u, lap_u, u, vsig, H, dt, alpha_u_max, alpha_u_min):
     """The updated conduction coefficients (a new array)."""
     n = alpha_u.shape[0]

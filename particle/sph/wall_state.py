@@ -81,6 +81,7 @@ from partmesh.compare.checks import positive
 from partmesh.particle.cell_grid import cell_grid, counting_sort
 from partmesh.particle.kernels import kernel_id, skewed_grad, skewed_w
 from partmesh.particle.sph.wall_placement import Wall, periodic_images
+from partmesh.particle.threads import PRANGE_ONLY
 
 #: c in the skewness λ = −c n̂ (Prasanna Kumar et al. 2018).
 SKEW = 10.0
@@ -97,7 +98,7 @@ def _cell_of(p, origin, width, n):
     return min(max(c, 0), n - 1)
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _support_pass(points, xs, Hs, start, origin, width, ncell, offsets, index, dx, order, fill):
     """Per point, the particles j (cell-sorted ``xs``, ``Hs``) with
     ``|p − x_j| < H_j`` in the 3×3 cells around the point's cell. ``fill``
@@ -184,7 +185,7 @@ def _widen(span, state):
         span[f, 1] = max(span[f, 1], value)
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _wall_fields(kind, normal, offsets, index, dx, fields, V, H, c):
     """Skewed-kernel Shepard values moved to the wall point with the corrected
     gradient (module docstring); ``reached[w]`` False where the total weight
@@ -334,7 +335,7 @@ def _clipped(value, bounds):
     return min(max(value, bounds[0]), bounds[1])
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _extrapolated(value, grad, span, anchor, offset, normal, volume, eta, gamma):
     """Virtual particles' velocity, density, specific energy, support and mass
     by the Taylor expansion about their anchors, evaluated at their mirror
