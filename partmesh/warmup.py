@@ -2,7 +2,7 @@
 
 numba keeps what it compiles on disk (``cache=True``) and JAX keeps its compiled steps in the persistent
 compilation cache (:mod:`partmesh.gridref.jax_setup`), so a method compiles once per install and grid
-size. That first compile is long and runs on one core (sph about 50 s, dsmc 30 to 60 s with its r–z and
+size. That first compile is long and runs on one core (sph 40 to 50 s, dsmc 25 to 60 s with its r–z and
 3D kernels, on a 2-core machine): a study whose first runs compile method after method waits for the
 sum. :func:`warm` runs a short stretch of each method's runs in a process of its own, as many at once as
 there are cores; the runs that follow in the calling process load the compiled code from disk, and their
