@@ -208,7 +208,10 @@ def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, 
         c, m = _visit(np.int64(k), xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], e)
         counts[order[k]] = c
         ncand[k] = m
-    return counts, ncand.max()
+    most = 0  # (a loop: ncand.max() would compile numpy's max for this kernel alone)
+    for k in range(n):
+        most = max(most, ncand[k])
+    return counts, most
 
 
 @numba.njit(cache=True)
@@ -226,7 +229,7 @@ _CHUNK = 256
 
 @numba.njit(cache=True, parallel=PRANGE_ONLY)
 def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk,
-               maxc, offsets, index, sort_lists, only_large, rows):
+               maxc, offsets, index, only_large, rows):
     """Write every particle's below ``rows`` (``only_large``: every large
     particle's) stencil neighbours from ``offsets[i]`` on; chunks of sorted
     particles share one scratch list."""
@@ -243,8 +246,6 @@ def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, p
             q = offsets[order[k]]
             for t in range(p):
                 index[q + t] = order[bk[t]]
-            if sort_lists:
-                index[q:q + p] = np.sort(index[q:q + p])
 
 
 @numba.njit(cache=True)
@@ -413,7 +414,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         m = int(big_offsets[-1])
         big_index = np.empty(m, dtype=np.int32)
         _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half,
-                   sk, int(maxc), big_offsets, big_index, False, True, rows)
+                   sk, int(maxc), big_offsets, big_index, True, rows)
         _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, big_offsets, big_index,
                        box, half, True, extra, rows)
     counts[rows:] = 0
@@ -421,12 +422,12 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     m = int(offsets[-1])
     index = np.empty(m, dtype=np.int32)
     _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
-               int(maxc), offsets, index, bool(sort_lists), False, rows)
+               int(maxc), offsets, index, False, rows)
     if large.size:
         _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, offsets, index, box, half,
                        False, np.zeros(n, dtype=np.int64), rows)
-        if sort_lists:
-            _sort_rows(np.flatnonzero(extra), offsets, index)
+    if sort_lists:  # (here, not in the fill pass: np.sort there would compile in every run, sorting or not)
+        _sort_rows(np.arange(n), offsets, index)
     return offsets, index
 
 

@@ -31,6 +31,10 @@ SERIAL_BELOW = 20_000
 #: a parallel loop of every ``np.zeros``, whole-array expression and reduction,
 #: and compiles each as a function of its own (about a second apiece here);
 #: none of them is where a step spends its time.
+#: Each ``prange`` loop also compiles as a function of its own, at a cost that
+#: grows with its body: the long bodies are functions of their own that the
+#: loop calls once per chunk of its range (``error_model="numpy"``, as numba
+#: compiles a loop body: a division by zero gives inf or NaN, no exception).
 PRANGE_ONLY = dict(prange=True, comprehension=False, reduction=False, inplace_binop=False, setitem=False,
                    numpy=False, stencil=False, fusion=False)
 

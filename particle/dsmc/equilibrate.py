@@ -34,6 +34,10 @@ from partmesh.particle.dsmc.random import gamma, normal, stream
 from partmesh.particle.threads import PRANGE_ONLY
 
 
+#: the cells a thread takes at a time
+_CELLS = 64
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True)
 def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due):
     """Redraw, in place, the velocities ``v`` (n, 3) and specific internal
@@ -52,7 +56,15 @@ def equilibrate(x, v, e, start, zeta, seed, step, count, momentum, energy, slope
     (:mod:`partmesh.particle.dsmc.intervals`; ``due`` of no rows: all
     are redrawn)."""
     ncell = start.size - 1
-    for cell in numba.prange(ncell):
+    for chunk in numba.prange((ncell + _CELLS - 1) // _CELLS):
+        _equilibrate_cells(chunk * _CELLS, min(ncell, (chunk + 1) * _CELLS), x, v, e, start, zeta, seed, step,
+                           count, momentum, energy, slopes, due)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _equilibrate_cells(first, end, x, v, e, start, zeta, seed, step, count, momentum, energy, slopes, due):
+    """:func:`equilibrate` of the cells ``first:end``."""
+    for cell in range(first, end):
         a, b = start[cell], start[cell + 1]
         # the cell's momentum and energy per unit particle mass
         N, p0, p1, p2, total = record_cell_sums(v, e, a, b, zeta, cell, count, momentum, energy)

@@ -37,6 +37,32 @@ def _count(state, expected):
     return state, int(np.floor(expected + xi))
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _fill_cell(c, lo, spacing, shape, rho, u, v, w, p, zeta, seed, step, key0, first, x, vel, e):
+    """The particles ``first[c]:first[c + 1]`` of cell ``c`` of :func:`particles_in_cells`."""
+    dim = lo.size
+    state = _count(stream(seed, step, key0 + c), 0.0)[0]
+    corner = np.empty(dim)
+    stride = 1
+    for a in range(dim):
+        corner[a] = lo[a] + ((c // stride) % shape[a]) * spacing[a]
+        stride *= shape[a]
+    scale = np.sqrt(p[c] / rho[c])
+    for k in range(first[c], first[c + 1]):
+        for a in range(dim):
+            state, xi = uniform(state)
+            x[k, a] = corner[a] + xi * spacing[a]
+        state, z0 = normal(state)
+        state, z1 = normal(state)
+        state, z2 = normal(state)
+        vel[k, 0] = u[c] + scale * z0
+        vel[k, 1] = v[c] + scale * z1
+        vel[k, 2] = w[c] + scale * z2
+        if zeta > 0.0:
+            state, g = gamma(state, 0.5 * zeta)
+            e[k] = scale * scale * g
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True)
 def particles_in_cells(lo, spacing, shape, rho, u, v, w, p, mass, zeta, seed, step, key0):
     """``(x, v, e)``: particles of mass ``mass`` filling the cells of a uniform
@@ -62,24 +88,5 @@ def particles_in_cells(lo, spacing, shape, rho, u, v, w, p, mass, zeta, seed, st
     vel = np.empty((n, 3))
     e = np.zeros(n)
     for c in numba.prange(ncell):
-        state = _count(stream(seed, step, key0 + c), 0.0)[0]
-        corner = np.empty(dim)
-        stride = 1
-        for a in range(dim):
-            corner[a] = lo[a] + ((c // stride) % shape[a]) * spacing[a]
-            stride *= shape[a]
-        scale = np.sqrt(p[c] / rho[c])
-        for k in range(first[c], first[c + 1]):
-            for a in range(dim):
-                state, xi = uniform(state)
-                x[k, a] = corner[a] + xi * spacing[a]
-            state, z0 = normal(state)
-            state, z1 = normal(state)
-            state, z2 = normal(state)
-            vel[k, 0] = u[c] + scale * z0
-            vel[k, 1] = v[c] + scale * z1
-            vel[k, 2] = w[c] + scale * z2
-            if zeta > 0.0:
-                state, g = gamma(state, 0.5 * zeta)
-                e[k] = scale * scale * g
+        _fill_cell(np.int64(c), lo, spacing, shape, rho, u, v, w, p, zeta, seed, step, key0, first, x, vel, e)
     return x, vel, e

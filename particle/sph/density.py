@@ -50,6 +50,45 @@ def _sums(i, H, m, r, neighbour, kind, dim):
 _CHUNK = 256
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _chunk_density(first, end, x, box, half, m, H, H_max, offsets, index, kind, dim, eta, scratch,
+                   rho_out, H_out, omega, converged):
+    """Solves :func:`density_and_support` for the particles ``first:end``,
+    each particle's distances in ``scratch``."""
+    for i in range(first, end):
+        a, b = offsets[i], offsets[i + 1]
+        for k in range(a, b):
+            scratch[k - a] = math.sqrt(separation(x, i, index[k], box, half)[3])
+        r, neighbour = scratch[: b - a], index[a:b]
+        h = H[i]
+        # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]
+        lo, hi = H[i] * H[i] / H_max[i], H_max[i]
+        ok = False
+        for _ in range(MAX_ITERATIONS):
+            rho, drho = _sums(i, h, m, r, neighbour, kind, dim)
+            target = m[i] * (eta / h) ** dim
+            f = rho - target
+            # f grows with H: keep a bracket, f > 0 means H is too large
+            if f > 0.0:
+                hi = min(hi, h)
+            else:
+                lo = max(lo, h)
+            df = drho + dim * target / h
+            h_new = h - f / df if df > 0.0 else 0.5 * (lo + hi)
+            if abs(h_new - h) <= TOLERANCE * h:
+                # h (whose sums these are) solves f = 0 to the tolerance (checked before the
+                # bracket: at f = 0 exactly, h itself is a bracket end)
+                ok = True
+                break
+            if not (lo < h_new < hi):
+                h_new = 0.5 * (lo + hi)
+            h = h_new
+        H_out[i] = h
+        rho_out[i] = rho
+        omega[i] = 1.0 + h / (dim * rho) * drho
+        converged[i] = ok
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True)
 def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, eta, n):
     """``(rho, H, omega, converged)`` for the first ``n`` particles (the
@@ -70,37 +109,6 @@ def density_and_support(x, box, half, m, H, H_max, offsets, index, kind, dim, et
     for i in range(n):
         longest = max(longest, offsets[i + 1] - offsets[i])
     for chunk in numba.prange((n + _CHUNK - 1) // _CHUNK):
-        scratch = np.empty(longest)
-        for i in range(chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK)):
-            a, b = offsets[i], offsets[i + 1]
-            for k in range(a, b):
-                scratch[k - a] = math.sqrt(separation(x, i, index[k], box, half)[3])
-            r, neighbour = scratch[: b - a], index[a:b]
-            h = H[i]
-            # the support cannot shrink by more than it may grow within one step: bracket [H²/H_max, H_max]
-            lo, hi = H[i] * H[i] / H_max[i], H_max[i]
-            ok = False
-            for _ in range(MAX_ITERATIONS):
-                rho, drho = _sums(i, h, m, r, neighbour, kind, dim)
-                target = m[i] * (eta / h) ** dim
-                f = rho - target
-                # f grows with H: keep a bracket, f > 0 means H is too large
-                if f > 0.0:
-                    hi = min(hi, h)
-                else:
-                    lo = max(lo, h)
-                df = drho + dim * target / h
-                h_new = h - f / df if df > 0.0 else 0.5 * (lo + hi)
-                if abs(h_new - h) <= TOLERANCE * h:
-                    # h (whose sums these are) solves f = 0 to the tolerance (checked before the
-                    # bracket: at f = 0 exactly, h itself is a bracket end)
-                    ok = True
-                    break
-                if not (lo < h_new < hi):
-                    h_new = 0.5 * (lo + hi)
-                h = h_new
-            H_out[i] = h
-            rho_out[i] = rho
-            omega[i] = 1.0 + h / (dim * rho) * drho
-            converged[i] = ok
+        _chunk_density(chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK), x, box, half, m, H, H_max, offsets, index,
+                       kind, dim, eta, np.empty(longest), rho_out, H_out, omega, converged)
     return rho_out, H_out, omega, converged

@@ -37,6 +37,114 @@ _V, _M, _U, _RHO, _P, _C, _ALPHA, _ALPHA_U, _INV_H, _GRAD, _P_TERM, _VOLUME, _FI
     3, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17)
 
 
+@numba.njit(cache=True, fastmath=True, error_model="numpy")
+def _chunk_rates(Q, c, offsets, index, box, half, kind, dim, n, first, end, out):
+    """Adds the pair terms of the rows ``first:end`` to ``out`` (one row per
+    particle: a0, a1, a2, du, div, curl_z, lap, vsig[, curl_x, curl_y]) as
+    :func:`rates` describes; returns the ordered pairs summed."""
+    pairs = 0
+    for i in range(first, end):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        du = 0.0
+        div = 0.0
+        curl = 0.0
+        curl_x = 0.0
+        curl_y = 0.0
+        lap = 0.0
+        vsig_i = c[i]
+        inv_Hi, grad_i, p_term_i = Q[i, _INV_H], Q[i, _GRAD], Q[i, _P_TERM]
+        for k in range(offsets[i], offsets[i + 1]):
+            j = index[k]
+            if j < i:
+                continue  # evaluated in row j
+            d0, d1, d2, r2 = separation(Q, i, j, box, half)
+            inv_Hj = Q[j, _INV_H]
+            if r2 * min(inv_Hi * inv_Hi, inv_Hj * inv_Hj) >= 1.0 or r2 <= 0.0:
+                continue  # beyond both supports (the lists hold a margin)
+            rij = math.sqrt(r2)
+            qi = rij * inv_Hi
+            qj = rij * inv_Hj
+            Fi = grad_i * shape_derivative(kind, qi) if qi < 1.0 else 0.0
+            Fj = Q[j, _GRAD] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
+            inv_r = 1.0 / rij
+            ex0 = d0 * inv_r
+            ex1 = d1 * inv_r
+            ex2 = d2 * inv_r
+            dv0 = Q[i, _V] - Q[j, _V]
+            dv1 = Q[i, _V + 1] - Q[j, _V + 1]
+            dv2 = Q[i, _V + 2] - Q[j, _V + 2]
+            w = dv0 * ex0 + dv1 * ex1 + dv2 * ex2  # v_ij · x̂_ij (the same seen from j)
+            Fbar = 0.5 * (Fi + Fj)
+            inv_rho_bar = 2.0 / (Q[i, _RHO] + Q[j, _RHO])
+            # pressure force (grad-h variational form) per unit neighbour mass
+            g = p_term_i * Fi + Q[j, _P_TERM] * Fj
+            # artificial viscosity
+            alpha_ij = 0.5 * (Q[i, _ALPHA] + Q[j, _ALPHA])
+            vsig = 0.5 * (Q[i, _C] + Q[j, _C])
+            visc = 0.0
+            if w < 0.0:
+                vsig -= alpha_ij * w
+                visc = -alpha_ij * vsig * w * inv_rho_bar * Fbar
+                g += visc
+            vsig_i = max(vsig_i, vsig)
+            # artificial conduction per unit neighbour mass, times (u_i − u_j)
+            cond = (0.5 * (Q[i, _ALPHA_U] + Q[j, _ALPHA_U]) * math.sqrt(abs(Q[i, _P] - Q[j, _P]) * inv_rho_bar)
+                    * inv_rho_bar * Fbar)
+            du_ij = Q[i, _U] - Q[j, _U]
+            twist = dv0 * ex1 - dv1 * ex0
+            mj = Q[j, _M]
+            f = mj * g
+            a0 -= f * ex0
+            a1 -= f * ex1
+            a2 -= f * ex2
+            # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i), and ∇·v with the particle's own kernel
+            mwF = mj * w * Fi
+            du += mj * (0.5 * visc * w + cond * du_ij) + p_term_i * mwF
+            div -= mwF
+            lap += 2.0 * Q[j, _VOLUME] * du_ij * Fi * inv_r
+            curl += mj * twist * Fi
+            twist_x = 0.0
+            twist_y = 0.0
+            if dim == 3:  # the other components of v_ij × x̂_ij
+                twist_x = dv1 * ex2 - dv2 * ex1
+                twist_y = dv2 * ex0 - dv0 * ex2
+                curl_x += mj * twist_x * Fi
+                curl_y += mj * twist_y * Fi
+            pairs += 1
+            if j >= n:
+                continue  # a ghost or imposed particle: its rates are not needed
+            # the same pair seen from j: x̂_ji = −x̂_ij, v_ji·x̂_ji = w
+            mi = Q[i, _M]
+            f = mi * g
+            out[j, 0] += f * ex0
+            out[j, 1] += f * ex1
+            out[j, 2] += f * ex2
+            mwF = mi * w * Fj
+            out[j, 3] += mi * (0.5 * visc * w - cond * du_ij) + Q[j, _P_TERM] * mwF
+            out[j, 4] -= mwF
+            out[j, 5] += mi * twist * Fj
+            out[j, 6] -= 2.0 * Q[i, _VOLUME] * du_ij * Fj * inv_r
+            out[j, 7] = max(out[j, 7], vsig)
+            if dim == 3:
+                out[j, 8] += mi * twist_x * Fj
+                out[j, 9] += mi * twist_y * Fj
+            pairs += 1
+        out[i, 0] += a0
+        out[i, 1] += a1
+        out[i, 2] += a2
+        out[i, 3] += du
+        out[i, 4] += div
+        out[i, 5] += curl
+        out[i, 6] += lap
+        out[i, 7] = max(out[i, 7], vsig_i)
+        if dim == 3:
+            out[i, 8] += curl_x
+            out[i, 9] += curl_y
+    return pairs
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=True, error_model="numpy")
 def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n, chunks):
     """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u, interactions)`` for the
@@ -85,108 +193,8 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
     acc = np.zeros((nchunk, n, 10 if dim == 3 else 8))
     counted = np.zeros(nchunk, dtype=np.int64)
     for ch in numba.prange(nchunk):
-        out = acc[ch]
-        pairs = 0
-        for i in range(ch * n // nchunk, (ch + 1) * n // nchunk):
-            a0 = 0.0
-            a1 = 0.0
-            a2 = 0.0
-            du = 0.0
-            div = 0.0
-            curl = 0.0
-            curl_x = 0.0
-            curl_y = 0.0
-            lap = 0.0
-            vsig_i = c[i]
-            inv_Hi, grad_i, p_term_i = Q[i, _INV_H], Q[i, _GRAD], Q[i, _P_TERM]
-            for k in range(offsets[i], offsets[i + 1]):
-                j = index[k]
-                if j < i:
-                    continue  # evaluated in row j
-                d0, d1, d2, r2 = separation(Q, i, j, box, half)
-                inv_Hj = Q[j, _INV_H]
-                if r2 * min(inv_Hi * inv_Hi, inv_Hj * inv_Hj) >= 1.0 or r2 <= 0.0:
-                    continue  # beyond both supports (the lists hold a margin)
-                rij = math.sqrt(r2)
-                qi = rij * inv_Hi
-                qj = rij * inv_Hj
-                Fi = grad_i * shape_derivative(kind, qi) if qi < 1.0 else 0.0
-                Fj = Q[j, _GRAD] * shape_derivative(kind, qj) if qj < 1.0 else 0.0
-                inv_r = 1.0 / rij
-                ex0 = d0 * inv_r
-                ex1 = d1 * inv_r
-                ex2 = d2 * inv_r
-                dv0 = Q[i, _V] - Q[j, _V]
-                dv1 = Q[i, _V + 1] - Q[j, _V + 1]
-                dv2 = Q[i, _V + 2] - Q[j, _V + 2]
-                w = dv0 * ex0 + dv1 * ex1 + dv2 * ex2  # v_ij · x̂_ij (the same seen from j)
-                Fbar = 0.5 * (Fi + Fj)
-                inv_rho_bar = 2.0 / (Q[i, _RHO] + Q[j, _RHO])
-                # pressure force (grad-h variational form) per unit neighbour mass
-                g = p_term_i * Fi + Q[j, _P_TERM] * Fj
-                # artificial viscosity
-                alpha_ij = 0.5 * (Q[i, _ALPHA] + Q[j, _ALPHA])
-                vsig = 0.5 * (Q[i, _C] + Q[j, _C])
-                visc = 0.0
-                if w < 0.0:
-                    vsig -= alpha_ij * w
-                    visc = -alpha_ij * vsig * w * inv_rho_bar * Fbar
-                    g += visc
-                vsig_i = max(vsig_i, vsig)
-                # artificial conduction per unit neighbour mass, times (u_i − u_j)
-                cond = (0.5 * (Q[i, _ALPHA_U] + Q[j, _ALPHA_U]) * math.sqrt(abs(Q[i, _P] - Q[j, _P]) * inv_rho_bar)
-                        * inv_rho_bar * Fbar)
-                du_ij = Q[i, _U] - Q[j, _U]
-                twist = dv0 * ex1 - dv1 * ex0
-                mj = Q[j, _M]
-                f = mj * g
-                a0 -= f * ex0
-                a1 -= f * ex1
-                a2 -= f * ex2
-                # compressional heating p/(Ωρ²) Σ m v_ij·∇W(H_i), and ∇·v with the particle's own kernel
-                mwF = mj * w * Fi
-                du += mj * (0.5 * visc * w + cond * du_ij) + p_term_i * mwF
-                div -= mwF
-                lap += 2.0 * Q[j, _VOLUME] * du_ij * Fi * inv_r
-                curl += mj * twist * Fi
-                twist_x = 0.0
-                twist_y = 0.0
-                if dim == 3:  # the other components of v_ij × x̂_ij
-                    twist_x = dv1 * ex2 - dv2 * ex1
-                    twist_y = dv2 * ex0 - dv0 * ex2
-                    curl_x += mj * twist_x * Fi
-                    curl_y += mj * twist_y * Fi
-                pairs += 1
-                if j >= n:
-                    continue  # a ghost or imposed particle: its rates are not needed
-                # the same pair seen from j: x̂_ji = −x̂_ij, v_ji·x̂_ji = w
-                mi = Q[i, _M]
-                f = mi * g
-                out[j, 0] += f * ex0
-                out[j, 1] += f * ex1
-                out[j, 2] += f * ex2
-                mwF = mi * w * Fj
-                out[j, 3] += mi * (0.5 * visc * w - cond * du_ij) + Q[j, _P_TERM] * mwF
-                out[j, 4] -= mwF
-                out[j, 5] += mi * twist * Fj
-                out[j, 6] -= 2.0 * Q[i, _VOLUME] * du_ij * Fj * inv_r
-                out[j, 7] = max(out[j, 7], vsig)
-                if dim == 3:
-                    out[j, 8] += mi * twist_x * Fj
-                    out[j, 9] += mi * twist_y * Fj
-                pairs += 1
-            out[i, 0] += a0
-            out[i, 1] += a1
-            out[i, 2] += a2
-            out[i, 3] += du
-            out[i, 4] += div
-            out[i, 5] += curl
-            out[i, 6] += lap
-            out[i, 7] = max(out[i, 7], vsig_i)
-            if dim == 3:
-                out[i, 8] += curl_x
-                out[i, 9] += curl_y
-        counted[ch] = pairs
+        counted[ch] = _chunk_rates(Q, c, offsets, index, box, half, kind, dim, n, ch * n // nchunk,
+                                   (ch + 1) * n // nchunk, acc[ch])
     dvdt = np.empty((n, dim))
     dudt = np.empty(n)
     div_v = np.empty(n)
@@ -219,4 +227,7 @@ def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, i
         for ch in range(nchunk):
             fastest = max(fastest, acc[ch, i, 7])
         vsig_max[i] = fastest
-    return dvdt, dudt, div_v, curl_v, vsig_max, lap_u, counted.sum()
+    interactions = 0  # (a loop: counted.sum() would compile numpy's sum for this kernel alone)
+    for ch in range(nchunk):
+        interactions += counted[ch]
+    return dvdt, dudt, div_v, curl_v, vsig_max, lap_u, interactions

@@ -21,6 +21,24 @@ from partmesh.particle.kernels import kernel_w
 from partmesh.particle.threads import PRANGE_ONLY
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _add_chunk_sums(first, end, points, x, values, volumes, H, kind, dim, num, den):
+    """Adds to ``num`` (k, n_points) and ``den`` (n_points,) the kernel sums of
+    :func:`kernel_sums_at_points` over the particles ``first:end``."""
+    for j in range(first, end):
+        for p in range(points.shape[0]):
+            r2 = 0.0
+            for d in range(dim):
+                diff = points[p, d] - x[j, d]
+                r2 += diff * diff
+            r = math.sqrt(r2)
+            if r < H[j]:
+                w = volumes[j] * kernel_w(kind, r, H[j], dim)
+                den[p] += w
+                for f in range(values.shape[0]):
+                    num[f, p] += values[f, j] * w
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True)
 def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``(Σ_j f_j V_j W_pj, Σ_j V_j W_pj)`` at ``points`` (n_points, dim) for
@@ -31,18 +49,7 @@ def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     den = np.zeros((n_chunks, n_points))
     chunk = (n + n_chunks - 1) // n_chunks
     for c in numba.prange(n_chunks):
-        for j in range(c * chunk, min(n, (c + 1) * chunk)):
-            for p in range(n_points):
-                r2 = 0.0
-                for d in range(dim):
-                    diff = points[p, d] - x[j, d]
-                    r2 += diff * diff
-                r = math.sqrt(r2)
-                if r < H[j]:
-                    w = volumes[j] * kernel_w(kind, r, H[j], dim)
-                    den[c, p] += w
-                    for f in range(k):
-                        num[c, f, p] += values[f, j] * w
+        _add_chunk_sums(c * chunk, min(n, (c + 1) * chunk), points, x, values, volumes, H, kind, dim, num[c], den[c])
     # the chunks added in their order, as num.sum(axis=0) would (whose 3D form compiles for seconds)
     for c in range(1, n_chunks):
         for p in range(n_points):
@@ -52,15 +59,12 @@ def kernel_sums_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     return num[0], den[0]
 
 
-@numba.njit(cache=True)
 def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``values`` (n,) interpolated at ``points`` (n_points, dim); NaN where
     no particle's support reaches a point."""
     num, den = kernel_sums_at_points(points, x, values.reshape(1, -1), volumes, H, kind, dim, n_chunks)
-    out = np.empty(den.size)
-    for p in range(den.size):
-        out[p] = num[0, p] / den[p] if den[p] > 0.0 else np.nan
-    return out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(den > 0.0, num[0] / den, np.nan)
 
 
 @numba.njit(cache=True, inline="always")
@@ -88,6 +92,52 @@ def _bucket(c, n, periodic):
     return c if 0 <= c < n else -1
 
 
+@numba.njit(cache=True, error_model="numpy")
+def _add_line_sums(s, r, x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim,
+                   reach_y, reach_z, span_y, span_z, start, order, num, den):
+    """Adds to ``num`` and ``den`` of :func:`kernel_sums_on_grid` the sums of
+    line (plane ``s``, row ``r``) over the particles of the lines within reach."""
+    Lx, Ly, Lz = nx * dx, ny * dy, nz * dz
+    periodic_x, periodic_y, periodic_z = periodic[0], periodic[1], periodic[2]
+    k = values.shape[0]
+    zs, yr = z0 + s * dz, y0 + r * dy
+    for ss in range(s - reach_z, s - reach_z + span_z):
+        plane = _bucket(ss, nz, periodic_z)
+        if plane < 0:
+            continue
+        for rr in range(r - reach_y, r - reach_y + span_y):
+            row = _bucket(rr, ny, periodic_y)
+            if row < 0:
+                continue
+            bucket = plane * ny + row
+            for t in range(start[bucket], start[bucket + 1]):
+                j = order[t]
+                ey = yr - y[j]
+                if periodic_y:
+                    ey -= Ly * math.floor(ey / Ly + 0.5)
+                ez = zs - z[j]
+                if periodic_z:
+                    ez -= Lz * math.floor(ez / Lz + 0.5)
+                across = ey * ey + ez * ez
+                if across >= H[j] * H[j]:
+                    continue
+                half_chord = math.sqrt(H[j] * H[j] - across)
+                xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
+                i_lo = int(math.ceil((xj - half_chord - x0) / dx))
+                i_hi = int(math.floor((xj + half_chord - x0) / dx))
+                if not periodic_x:
+                    i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
+                for i in range(i_lo, i_hi + 1):
+                    ex = x0 + i * dx - xj
+                    dist = math.sqrt(ex * ex + across)
+                    if dist < H[j]:
+                        w = volumes[j] * kernel_w(kind, dist, H[j], dim)
+                        c = i % nx if periodic_x else i
+                        den[s, r, c] += w
+                        for f in range(k):
+                            num[f, s, r, c] += w * values[f, j]
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True)
 def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim):
     """``(Σ_j f_j V_j W, Σ_j V_j W)`` at the centres ``(x0 + i dx, y0 + r dy, z0 + s dz)``
@@ -100,9 +150,11 @@ def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0,
     line by line, so threads never share a cell and the sums do not depend on
     the thread count."""
     n, k = x.size, values.shape[0]
-    Lx, Ly, Lz = nx * dx, ny * dy, nz * dz
-    periodic_x, periodic_y, periodic_z = periodic[0], periodic[1], periodic[2]
-    H_max = H.max() if n else 0.0
+    Ly, Lz = ny * dy, nz * dz
+    periodic_y, periodic_z = periodic[1], periodic[2]
+    H_max = 0.0
+    for j in range(n):
+        H_max = max(H_max, H[j])
     reach_y = int(math.ceil(H_max / dy)) + 1 if dim > 1 else 0
     reach_z = int(math.ceil(H_max / dz)) + 1 if dim > 2 else 0
     # the lines within reach, each once on a periodic axis
@@ -117,63 +169,20 @@ def kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0,
     num = np.zeros((k, nz, ny, nx))
     den = np.zeros((nz, ny, nx))
     for sr in numba.prange(nz * ny):
-        s, r = sr // ny, sr % ny
-        zs, yr = z0 + s * dz, y0 + r * dy
-        for ss in range(s - reach_z, s - reach_z + span_z):
-            plane = _bucket(ss, nz, periodic_z)
-            if plane < 0:
-                continue
-            for rr in range(r - reach_y, r - reach_y + span_y):
-                row = _bucket(rr, ny, periodic_y)
-                if row < 0:
-                    continue
-                bucket = plane * ny + row
-                for t in range(start[bucket], start[bucket + 1]):
-                    j = order[t]
-                    ey = yr - y[j]
-                    if periodic_y:
-                        ey -= Ly * math.floor(ey / Ly + 0.5)
-                    ez = zs - z[j]
-                    if periodic_z:
-                        ez -= Lz * math.floor(ez / Lz + 0.5)
-                    across = ey * ey + ez * ez
-                    if across >= H[j] * H[j]:
-                        continue
-                    half_chord = math.sqrt(H[j] * H[j] - across)
-                    xj = _wrapped(x[j], x0, dx, Lx) if periodic_x else x[j]
-                    i_lo = int(math.ceil((xj - half_chord - x0) / dx))
-                    i_hi = int(math.floor((xj + half_chord - x0) / dx))
-                    if not periodic_x:
-                        i_lo, i_hi = max(i_lo, 0), min(i_hi, nx - 1)
-                    for i in range(i_lo, i_hi + 1):
-                        ex = x0 + i * dx - xj
-                        dist = math.sqrt(ex * ex + across)
-                        if dist < H[j]:
-                            w = volumes[j] * kernel_w(kind, dist, H[j], dim)
-                            c = i % nx if periodic_x else i
-                            den[s, r, c] += w
-                            for f in range(k):
-                                num[f, s, r, c] += w * values[f, j]
+        _add_line_sums(sr // ny, sr % ny, x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz,
+                       periodic, kind, dim, reach_y, reach_z, span_y, span_z, start, order, num, den)
     return num, den
 
 
-@numba.njit(parallel=PRANGE_ONLY, cache=True)
 def shepard_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic, kind, dim,
                     min_support):
     """``values`` (k, n) interpolated at the grid centres of
     :func:`kernel_sums_on_grid`: (k, nz, ny, nx), NaN where the kernel sum
     Σ_j V_j W is zero or below ``min_support``."""
-    k = values.shape[0]
     num, den = kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic,
                                    kind, dim)
-    out = np.empty((k, nz, ny, nx))
-    for sr in numba.prange(nz * ny):
-        s, r = sr // ny, sr % ny
-        for i in range(nx):
-            ok = den[s, r, i] > 0.0 and den[s, r, i] >= min_support
-            for f in range(k):
-                out[f, s, r, i] = num[f, s, r, i] / den[s, r, i] if ok else np.nan
-    return out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where((den > 0.0) & (den >= min_support), num / den, np.nan)
 
 
 def on_grid(x, values, volumes, H, axes, periodic, kind, min_support, lengths=None) -> np.ndarray:
