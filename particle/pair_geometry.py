@@ -14,7 +14,13 @@ from numba import prange
 from partmesh.particle.positions import box_corners, periodicity, positions
 from partmesh.particle.threads import PRANGE_ONLY
 
-__all__ = ["image", "padded", "periods", "separation", "separations"]
+__all__ = ["FASTMATH", "image", "padded", "periods", "separation", "separations"]
+
+#: numba's fastmath flags of the pair loops: every one but ``nsz`` (no signed zeros). With it beside
+#: ``reassoc`` (``fastmath=True``), LLVM optimised sph's rates differently when numba compiled them in the run's
+#: process and when it loaded them from its cache: a first run's results and a later run's differed in their last
+#: bits (9e-13 of a unit acceleration), with the same code, seed and threads
+FASTMATH = {"nnan", "ninf", "arcp", "afn", "contract", "reassoc"}
 
 
 @numba.njit(cache=True, inline="always")

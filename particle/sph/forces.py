@@ -29,7 +29,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape_derivative
-from partmesh.particle.pair_geometry import separation
+from partmesh.particle.pair_geometry import FASTMATH, separation
 from partmesh.particle.threads import PRANGE_ONLY
 
 #: the columns of the per-particle table the pair loop reads (x: 0–2)
@@ -37,7 +37,7 @@ _V, _M, _U, _RHO, _P, _C, _ALPHA, _ALPHA_U, _INV_H, _GRAD, _P_TERM, _VOLUME, _FI
     3, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17)
 
 
-@numba.njit(cache=True, fastmath=True, error_model="numpy")
+@numba.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def _chunk_rates(Q, c, offsets, index, box, half, kind, dim, n, first, end, out):
     """Adds the pair terms of the rows ``first:end`` to ``out`` (one row per
     particle: a0, a1, a2, du, div, curl_z, lap, vsig[, curl_x, curl_y]) as
@@ -145,7 +145,7 @@ def _chunk_rates(Q, c, offsets, index, box, half, kind, dim, n, first, end, out)
     return pairs
 
 
-@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=True, error_model="numpy")
+@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=FASTMATH, error_model="numpy")
 def rates(x, box, half, v, m, u, rho, p, c, omega, H, alpha, alpha_u, offsets, index, kind, dim, n, chunks):
     """``(dvdt, dudt, div_v, curl_v, vsig_max, lap_u, interactions)`` for the
     first ``n`` particles (the fluid; ghosts after them only serve as

@@ -43,7 +43,7 @@ import numba
 import numpy as np
 
 from partmesh.particle.kernels import SIGMA, shape_derivative
-from partmesh.particle.pair_geometry import separation
+from partmesh.particle.pair_geometry import FASTMATH, separation
 from partmesh.particle.threads import PRANGE_ONLY
 
 #: a renormalisation matrix whose determinant is below this fraction of (trace/2)² (particles with
@@ -63,7 +63,7 @@ def _add_moments(row, volume, s00, s01, s11, jump, d0, d1):
     row[4] += volume * jump * d1
 
 
-@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=True, error_model="numpy")
+@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=FASTMATH, error_model="numpy")
 def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, index, kind, n, chunks):
     """The renormalised gradient G (n, 2) of ρ^D for the first ``n``
     particles of the 2D set ``x`` (N, 3) (the ghosts after them only serve
@@ -107,7 +107,7 @@ def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, ind
     return G
 
 
-@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=True, error_model="numpy")
+@numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=FASTMATH, error_model="numpy")
 def rates(x, box, half, v, m, rho, p, c, rho_dynamic, G, H, c0, alpha, delta, offsets, index, kind, dim, n,
           chunks):
     """``(dvdt, drhodt, mu_max, interactions)`` for the first ``n``
