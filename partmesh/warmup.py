@@ -1,13 +1,13 @@
 """``partmesh warm``: the kernels of several methods compiled side by side, one process per method.
 
 numba keeps what it compiles on disk (``cache=True``) and JAX keeps its compiled steps in the persistent
-compilation cache (:mod:`partmesh.gridref.jax_setup`), so a method compiles once per install and grid
-size. That first compile is long and runs on one core (sph 40 to 50 s, dsmc 25 to 60 s with its r–z and
-3D kernels, on a 2-core machine): a study whose first runs compile method after method waits for the
-sum. :func:`warm` runs a short stretch of each method's runs in a process of its own, as many at once as
-there are cores; the runs that follow in the calling process load the compiled code from disk, and their
-timings hold no compile. Where everything is compiled already it costs each process its imports, loading the cached
-code and a few steps (the demo's: 9-10 s on two cores).
+compilation cache (:mod:`partmesh.gridref.jax_setup`), so a method compiles once per install and grid size.
+That first compile is long and runs on one core (the demo's runs on a 2-core machine: sph 20 to 25 s, dsmc 12
+to 15 s, fv 6 s; more where a scene needs dsmc's r–z or 3D kernels): a study whose first runs compile method
+after method waits for the sum. :func:`warm` runs a short stretch of each method's runs in a process of its
+own, as many at once as there are cores; the runs that follow in the calling process load the compiled code
+from disk, and their timings hold no compile. Where everything is compiled already it costs each process its
+imports, loading the cached code and a few steps (the demo's: 9-10 s on two cores).
 """
 
 from __future__ import annotations
