@@ -1,9 +1,12 @@
 """While a method compiles, the terminal says so (issue: a first run's
 minute of silence): ``compiling <method> kernels (first run only)`` with
 the seconds so far, cleared before the run's progress bar starts; the
-seconds become the result's ``compile_seconds``."""
+seconds become the result's ``compile_seconds``. And what it compiles, it
+compiles once: each particle kernel for one signature."""
 
 import io
+import os
+import subprocess
 import sys
 import time
 
@@ -51,3 +54,27 @@ def test_a_run_says_it_compiles_before_its_progress_bar(monkeypatch, method, dx,
     assert line in shown and f"{method} sod:" in shown
     assert shown.index(line) < shown.index(f"{method} sod:")
     assert ds.attrs["compile_seconds"] > 0.0
+
+
+#: short sod runs of the particle methods in a fresh numba cache; prints every partmesh kernel compiled for more
+#: than one signature
+_SIGNATURES = """
+import gc
+from numba.core.registry import CPUDispatcher
+import partmesh as pm
+for method in ("sph", "dsmc"):
+    pm.run("sod", method, dx=0.01, t_end=0.02 * pm.scene("sod").t_end, progress=False)
+for d in gc.get_objects():
+    if isinstance(d, CPUDispatcher) and d.py_func.__module__.startswith("partmesh") and len(d.overloads) > 1:
+        print(d.py_func.__module__, d.py_func.__qualname__, *map(str, d.overloads))
+"""
+
+
+@pytest.mark.full
+def test_a_run_compiles_each_particle_kernel_for_one_signature(tmp_path):
+    """Every kernel of a short sph and dsmc run compiles once: a helper that
+    a prange loop calls with its unsigned index and other code with an int64
+    compiled twice (3 to 4 s each)."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    done = subprocess.run([sys.executable, "-c", _SIGNATURES], env=env, check=True, capture_output=True, text=True)
+    assert done.stdout == ""
