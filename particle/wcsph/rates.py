@@ -63,6 +63,29 @@ def _add_moments(row, volume, s00, s01, s11, jump, d0, d1):
     row[4] += volume * jump * d1
 
 
+@numba.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def _chunk_gradient_sums(first, end, x, box, half, volume, rho_dynamic, H2, inv_H, grad_scale, offsets, index, kind,
+                         n, out):
+    """Adds the pair terms of the rows ``first:end`` to ``out`` (M00, M01,
+    M11, g0, g1 per particle) as :func:`dynamic_density_gradients` describes."""
+    for a in range(first, end):
+        for k in range(offsets[a], offsets[a + 1]):
+            b = index[k]
+            if b < a:
+                continue
+            d0, d1, _, r2 = separation(x, a, b, box, half)
+            if r2 >= H2 or r2 <= 0.0:
+                continue
+            r = np.sqrt(r2)
+            Fr = grad_scale * shape_derivative(kind, r * inv_H) / r
+            # M += V (r_b − r_a) ⊗ ∇_a W = −V Fr d ⊗ d;  g += V (ρ_b − ρ_a) ∇_a W = V (ρ_b − ρ_a) Fr d
+            s00, s01, s11 = -Fr * d0 * d0, -Fr * d0 * d1, -Fr * d1 * d1
+            jump = (rho_dynamic[b] - rho_dynamic[a]) * Fr
+            _add_moments(out[a], volume[b], s00, s01, s11, jump, d0, d1)
+            if b < n:
+                _add_moments(out[b], volume[a], s00, s01, s11, jump, d0, d1)
+
+
 @numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=FASTMATH, error_model="numpy")
 def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, index, kind, n, chunks):
     """The renormalised gradient G (n, 2) of ρ^D for the first ``n``
@@ -76,23 +99,8 @@ def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, ind
     # per block and particle: M00, M01, M11, g0, g1
     acc = np.zeros((nchunk, n, 5))
     for ch in numba.prange(nchunk):
-        out = acc[ch]
-        for a in range(ch * n // nchunk, (ch + 1) * n // nchunk):
-            for k in range(offsets[a], offsets[a + 1]):
-                b = index[k]
-                if b < a:
-                    continue
-                d0, d1, _, r2 = separation(x, a, b, box, half)
-                if r2 >= H2 or r2 <= 0.0:
-                    continue
-                r = np.sqrt(r2)
-                Fr = grad_scale * shape_derivative(kind, r * inv_H) / r
-                # M += V (r_b − r_a) ⊗ ∇_a W = −V Fr d ⊗ d;  g += V (ρ_b − ρ_a) ∇_a W = V (ρ_b − ρ_a) Fr d
-                s00, s01, s11 = -Fr * d0 * d0, -Fr * d0 * d1, -Fr * d1 * d1
-                jump = (rho_dynamic[b] - rho_dynamic[a]) * Fr
-                _add_moments(out[a], volume[b], s00, s01, s11, jump, d0, d1)
-                if b < n:
-                    _add_moments(out[b], volume[a], s00, s01, s11, jump, d0, d1)
+        _chunk_gradient_sums(ch * n // nchunk, (ch + 1) * n // nchunk, x, box, half, volume, rho_dynamic, H2, inv_H,
+                             grad_scale, offsets, index, kind, n, acc[ch])
     G = np.zeros((n, 2))
     for a in numba.prange(n):
         M = np.zeros(5)
@@ -105,6 +113,68 @@ def dynamic_density_gradients(x, box, half, volume, rho_dynamic, H, offsets, ind
             G[a, 0] = (M[2] * M[3] - M[1] * M[4]) / det
             G[a, 1] = (M[0] * M[4] - M[1] * M[3]) / det
     return G
+
+
+@numba.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def _chunk_rates(first, end, x, box, half, v, m, rho, c, rho_dynamic, G, p_term, volume, h, eps2, H2, inv_H,
+                 grad_scale, diffusion, alpha, offsets, index, kind, n, out):
+    """Adds the pair terms of the rows ``first:end`` to ``out`` (a0, a1, a2,
+    drho, mu_max per particle) as :func:`rates` describes; returns the
+    ordered pairs summed."""
+    pairs = 0
+    for a in range(first, end):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        drho = 0.0
+        mu_a = 0.0
+        for k in range(offsets[a], offsets[a + 1]):
+            b = index[k]
+            if b < a:
+                continue  # evaluated in row b
+            d0, d1, d2, r2 = separation(x, a, b, box, half)
+            if r2 >= H2 or r2 <= 0.0:
+                continue
+            r = np.sqrt(r2)
+            F = grad_scale * shape_derivative(kind, r * inv_H)  # ∂W/∂r
+            Fr = F / r
+            dv0 = v[a, 0] - v[b, 0]
+            dv1 = v[a, 1] - v[b, 1]
+            dv2 = v[a, 2] - v[b, 2]
+            vr = dv0 * d0 + dv1 * d1 + dv2 * d2  # v_ab · r_ab
+            g = p_term[a] + p_term[b]
+            mu = h * vr / (r2 + eps2)
+            if vr < 0.0:
+                g -= alpha * 0.5 * (c[a] + c[b]) * mu * 2.0 / (rho[a] + rho[b])
+            mu_a = max(mu_a, abs(mu))
+            # ∇_a W = Fr r_ab; v_ab·∇_a W = Fr vr
+            div = Fr * vr
+            jump = 2.0 * (rho_dynamic[a] - rho_dynamic[b]) - (
+                (G[a, 0] + G[b, 0]) * d0 + (G[a, 1] + G[b, 1]) * d1 + (G[a, 2] + G[b, 2]) * d2)
+            diff = diffusion * jump * Fr
+            mb = m[b]
+            f = mb * g * Fr
+            a0 -= f * d0
+            a1 -= f * d1
+            a2 -= f * d2
+            drho += mb * div + volume[b] * diff
+            pairs += 1
+            if b >= n:
+                continue  # a ghost: its rates are not needed
+            ma = m[a]
+            f = ma * g * Fr
+            out[b, 0] += f * d0
+            out[b, 1] += f * d1
+            out[b, 2] += f * d2
+            out[b, 3] += ma * div - volume[a] * diff
+            out[b, 4] = max(out[b, 4], abs(mu))
+            pairs += 1
+        out[a, 0] += a0
+        out[a, 1] += a1
+        out[a, 2] += a2
+        out[a, 3] += drho
+        out[a, 4] = max(out[a, 4], mu_a)
+    return pairs
 
 
 @numba.njit(parallel=PRANGE_ONLY, cache=True, fastmath=FASTMATH, error_model="numpy")
@@ -140,61 +210,9 @@ def rates(x, box, half, v, m, rho, p, c, rho_dynamic, G, H, c0, alpha, delta, of
     acc = np.zeros((nchunk, n, 5))
     counted = np.zeros(nchunk, dtype=np.int64)
     for ch in numba.prange(nchunk):
-        out = acc[ch]
-        pairs = 0
-        for a in range(ch * n // nchunk, (ch + 1) * n // nchunk):
-            a0 = 0.0
-            a1 = 0.0
-            a2 = 0.0
-            drho = 0.0
-            mu_a = 0.0
-            for k in range(offsets[a], offsets[a + 1]):
-                b = index[k]
-                if b < a:
-                    continue  # evaluated in row b
-                d0, d1, d2, r2 = separation(x, a, b, box, half)
-                if r2 >= H2 or r2 <= 0.0:
-                    continue
-                r = np.sqrt(r2)
-                F = grad_scale * shape_derivative(kind, r * inv_H)  # ∂W/∂r
-                Fr = F / r
-                dv0 = v[a, 0] - v[b, 0]
-                dv1 = v[a, 1] - v[b, 1]
-                dv2 = v[a, 2] - v[b, 2]
-                vr = dv0 * d0 + dv1 * d1 + dv2 * d2  # v_ab · r_ab
-                g = p_term[a] + p_term[b]
-                mu = h * vr / (r2 + eps2)
-                if vr < 0.0:
-                    g -= alpha * 0.5 * (c[a] + c[b]) * mu * 2.0 / (rho[a] + rho[b])
-                mu_a = max(mu_a, abs(mu))
-                # ∇_a W = Fr r_ab; v_ab·∇_a W = Fr vr
-                div = Fr * vr
-                jump = 2.0 * (rho_dynamic[a] - rho_dynamic[b]) - (
-                    (G[a, 0] + G[b, 0]) * d0 + (G[a, 1] + G[b, 1]) * d1 + (G[a, 2] + G[b, 2]) * d2)
-                diff = diffusion * jump * Fr
-                mb = m[b]
-                f = mb * g * Fr
-                a0 -= f * d0
-                a1 -= f * d1
-                a2 -= f * d2
-                drho += mb * div + volume[b] * diff
-                pairs += 1
-                if b >= n:
-                    continue  # a ghost: its rates are not needed
-                ma = m[a]
-                f = ma * g * Fr
-                out[b, 0] += f * d0
-                out[b, 1] += f * d1
-                out[b, 2] += f * d2
-                out[b, 3] += ma * div - volume[a] * diff
-                out[b, 4] = max(out[b, 4], abs(mu))
-                pairs += 1
-            out[a, 0] += a0
-            out[a, 1] += a1
-            out[a, 2] += a2
-            out[a, 3] += drho
-            out[a, 4] = max(out[a, 4], mu_a)
-        counted[ch] = pairs
+        counted[ch] = _chunk_rates(ch * n // nchunk, (ch + 1) * n // nchunk, x, box, half, v, m, rho, c, rho_dynamic,
+                                   G, p_term, volume, h, eps2, H2, inv_H, grad_scale, diffusion, alpha, offsets,
+                                   index, kind, n, acc[ch])
     dvdt = np.empty((n, dim))
     drhodt = np.empty(n)
     mu_max = np.empty(n)
@@ -211,4 +229,7 @@ def rates(x, box, half, v, m, rho, p, c, rho_dynamic, G, H, c0, alpha, delta, of
         for ch in range(nchunk):
             largest = max(largest, acc[ch, a, 4])
         mu_max[a] = largest
-    return dvdt, drhodt, mu_max, counted.sum()
+    interactions = 0  # (a loop: counted.sum() would compile numpy's sum for this kernel alone)
+    for ch in range(nchunk):
+        interactions += counted[ch]
+    return dvdt, drhodt, mu_max, interactions
