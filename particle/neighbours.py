@@ -278,10 +278,10 @@ def _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, stenc
 
 
 @numba.njit(cache=True, parallel=PRANGE_ONLY)
-def _sort_rows(rows, offsets, index):
-    """Sort the lists of ``rows`` by neighbour id."""
-    for t in prange(rows.size):
-        a, b = offsets[rows[t]], offsets[rows[t] + 1]
+def _sort_rows(offsets, index):
+    """Sort every list by neighbour id."""
+    for i in prange(offsets.size - 1):
+        a, b = offsets[i], offsets[i + 1]
         index[a:b] = np.sort(index[a:b])
 
 
@@ -427,7 +427,7 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, offsets, index, box, half,
                        False, np.zeros(n, dtype=np.int64), rows)
     if sort_lists:  # (here, not in the fill pass: np.sort there would compile in every run, sorting or not)
-        _sort_rows(np.arange(n), offsets, index)
+        _sort_rows(offsets, index)
     return offsets, index
 
 

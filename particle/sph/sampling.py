@@ -63,8 +63,14 @@ def shepard_at_points(points, x, values, volumes, H, kind, dim, n_chunks):
     """``values`` (n,) interpolated at ``points`` (n_points, dim); NaN where
     no particle's support reaches a point."""
     num, den = kernel_sums_at_points(points, x, values.reshape(1, -1), volumes, H, kind, dim, n_chunks)
+    return _shepard_ratio(num[0], den, 0.0)
+
+
+def _shepard_ratio(num, den, min_support):
+    """``num / den`` where the kernel sum ``den`` is above zero and at least
+    ``min_support``; NaN elsewhere."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(den > 0.0, num[0] / den, np.nan)
+        return np.where((den > 0.0) & (den >= min_support), num / den, np.nan)
 
 
 @numba.njit(cache=True, inline="always")
@@ -181,8 +187,7 @@ def shepard_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz,
     Σ_j V_j W is zero or below ``min_support``."""
     num, den = kernel_sums_on_grid(x, y, z, values, volumes, H, x0, dx, nx, y0, dy, ny, z0, dz, nz, periodic,
                                    kind, dim)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where((den > 0.0) & (den >= min_support), num / den, np.nan)
+    return _shepard_ratio(num, den, min_support)
 
 
 def on_grid(x, values, volumes, H, axes, periodic, kind, min_support, lengths=None) -> np.ndarray:
