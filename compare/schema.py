@@ -128,6 +128,15 @@ def _spatial_dims(ndim: int) -> tuple[str, ...]:
     return ("z", "y", "x")[3 - ndim:]
 
 
+def load_result_modules() -> None:
+    """Load what building the first result in a process loads: xarray looks
+    for dask arrays among the data of every variable it makes, importing
+    ``dask.array`` the first time (about 0.4 s, measured; dask is installed
+    for ensembles and sweeps). A caller with a compile under way in another
+    thread loads it meanwhile."""
+    import dask.array  # noqa: F401
+
+
 def result(
     *,
     case: str,

@@ -5,6 +5,7 @@ host; :func:`partmesh.cases.march.march` drives it."""
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from typing import Callable
 
 import jax
@@ -12,6 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from partmesh.cases.march import LANDING, Stretch
+from partmesh.compare.schema import load_result_modules
 
 
 class DeviceLoop:
@@ -72,12 +74,20 @@ class DeviceLoop:
     def compile(self, state) -> None:
         """Compile the loop for the shapes of ``state`` (float64 times), and
         run it once without a step: a first execution's own costs are not
-        the run's. Nothing to do where it is compiled for these shapes."""
+        the run's. Nothing to do where it is compiled for these shapes.
+        XLA compiles in a thread of its own (it lets go of the interpreter
+        while it does), and this one meanwhile loads the modules the run's
+        result needs (:func:`~partmesh.compare.schema.load_result_modules`):
+        a first run in a process waits for the longer of the two, not their sum."""
         shapes = jax.tree_util.tree_map(lambda a: (jnp.shape(a), jnp.result_type(a)), state)
         if self._compiled is not None and shapes == self._shapes:
             return
         f = jnp.zeros((), jnp.float64)
-        self._compiled = jax.jit(self._loop).lower(state, f, f, f, jnp.zeros((), jnp.int32), f).compile()
+        lowered = jax.jit(self._loop).lower(state, f, f, f, jnp.zeros((), jnp.int32), f)
+        with ThreadPoolExecutor(1) as pool:
+            compiled = pool.submit(lowered.compile)
+            load_result_modules()
+            self._compiled = compiled.result()
         self._shapes = shapes
         jax.block_until_ready(self._compiled(state, f, f, f, jnp.zeros((), jnp.int32), f))
 

@@ -1,18 +1,40 @@
-"""Helpers around :class:`jax_cfd.base.grids.Grid`: the solver grid of a
-scene at a requested cell size."""
+"""The uniform cell-centred grid of a solver (:class:`Grid`), the solver
+grid of a scene at a requested cell size, and helpers over it."""
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 
 import numpy as np
-from jax_cfd.base import grids
 
 from partmesh.cases.errors import InputError
 from partmesh.compare.regrid import linear_weights
 
 
-def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Grid:
+@dataclass(frozen=True)
+class Grid:
+    """``shape`` cells per axis (x first) over ``domain``, ``((lo, hi), ...)``
+    per axis: cells of ``step = (hi − lo) / n`` whose centres lie at
+    ``lo + (i + ½) step`` (:func:`cell_centres`)."""
+
+    shape: tuple[int, ...]
+    domain: tuple[tuple[float, float], ...]
+
+    def __post_init__(self):
+        object.__setattr__(self, "shape", tuple(int(n) for n in self.shape))
+        object.__setattr__(self, "domain", tuple((float(lo), float(hi)) for lo, hi in self.domain))
+
+    @property
+    def step(self) -> tuple[float, ...]:
+        return tuple((hi - lo) / n for (lo, hi), n in zip(self.domain, self.shape))
+
+    @property
+    def ndim(self) -> int:
+        return len(self.shape)
+
+
+def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> Grid:
     """A uniform cell-centred grid over ``domain`` with square cells of size
     ``dx``; each extent must hold a whole number of cells (to 1e-6)."""
     shape = []
@@ -23,7 +45,7 @@ def solver_grid(domain: tuple[tuple[float, float], ...], dx: float) -> grids.Gri
                 f"dx = {dx:g} m does not divide the domain extent along {axis} ({hi - lo:g} m) into whole cells."
             )
         shape.append(int(round(n)))
-    return grids.Grid(tuple(shape), domain=tuple(domain))
+    return Grid(tuple(shape), tuple(domain))
 
 
 def cropped(a, axes, k=1):
@@ -35,12 +57,12 @@ def cropped(a, axes, k=1):
     return a[tuple(index)]
 
 
-def cell_centres(grid: grids.Grid) -> list[np.ndarray]:
-    """Cell-centre coordinates along each axis (x first)."""
-    return [np.asarray(a) for a in grid.axes()]
+def cell_centres(grid: Grid) -> list[np.ndarray]:
+    """Cell-centre coordinates along each axis (x first): ``lo + (i + ½) Δx``."""
+    return [lo + (np.arange(n) + 0.5) * step for (lo, _), n, step in zip(grid.domain, grid.shape, grid.step)]
 
 
-def mesh(grid: grids.Grid) -> tuple[np.ndarray | None, ...]:
+def mesh(grid: Grid) -> tuple[np.ndarray | None, ...]:
     """Cell-centre coordinate arrays in the field layout ``([[z,] y,] x)``:
     ``(x, None)`` in 1D, ``(X, Y)`` in 2D, ``(X, Y, Z)`` in 3D."""
     axes = cell_centres(grid)
@@ -49,7 +71,7 @@ def mesh(grid: grids.Grid) -> tuple[np.ndarray | None, ...]:
     return tuple(np.meshgrid(*axes[::-1], indexing="ij")[::-1])
 
 
-def bilinear_stencil(grid: grids.Grid, points: np.ndarray,
+def bilinear_stencil(grid: Grid, points: np.ndarray,
                      periodic=(False, False, False)) -> tuple[np.ndarray, np.ndarray]:
     """Flat indices ``(n, 2**dim)`` into the field layout ``([[z,] y,] x)`` and the
     (bi-, tri-)linear interpolation weights of the cell centres around each of the

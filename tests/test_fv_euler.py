@@ -647,6 +647,26 @@ def test_vacuum_floors_change_only_a_near_vacuum_and_count_what_they_add():
     assert float(np.asarray(energy)[1]) == pytest.approx((FLOOR * 5e5 + 17.0) / (gamma - 1.0), rel=1e-6)
 
 
+@pytest.mark.parametrize("dt_next, attempts, floored", [(np.inf, 1, 0), (np.nan, 4, 1), (2e-4, 1, 0)])
+def test_fallback_redoes_only_a_step_that_is_not_physical(dt_next, attempts, floored):
+    """``with_fallbacks`` redoes a step (up to ``retries`` times, then the
+    floors) only where its CFL step is NaN; an infinite one (a level of a
+    hierarchy with no block active: nothing limits its step) is taken once."""
+    import jax.numpy as jnp
+
+    from partmesh.gridref.euler.step import with_fallbacks
+
+    def attempt(allowed, previous):
+        return (previous[0], jnp.asarray(dt_next), previous[2] + 1), allowed
+
+    def floors(U):
+        return U, jnp.asarray(dt_next), jnp.ones(()), jnp.zeros(()), jnp.zeros(())
+
+    out, added = with_fallbacks(attempt, lambda ok, U: ok, floors, jnp.ones(3, bool), 3,
+                                (jnp.zeros(3), jnp.zeros(()), jnp.zeros((), jnp.int32)))
+    assert int(out[2]) == attempts and float(added[0]) == floored
+
+
 def test_a_run_again_in_the_process_reuses_its_compiled_step():
     """The same scene and grid again: the stepper of the first run, nothing
     traced or compiled, the same result; another grid gets its own."""

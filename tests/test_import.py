@@ -52,7 +52,7 @@ def test_importing_every_module_leaves_jax_matplotlib_and_the_folder_alone(tmp_p
 
 
 #: libraries that ``import partmesh`` does not load (xarray brings pandas; jax and numba load when a method runs)
-HEAVY = ("matplotlib", "scipy", "pandas", "xarray", "numpy", "jax", "jax_cfd", "numba", "netCDF4", "tqdm",
+HEAVY = ("matplotlib", "scipy", "pandas", "xarray", "numpy", "jax", "numba", "netCDF4", "tqdm",
          "distributed", "dask")
 #: the namespace of partmesh as it was when every name was imported eagerly
 NAMES = ["InputError", "Method", "Scene", "SchemaError", "SolverFailed", "Unsupported", "WaterScene", "__version__",

@@ -20,10 +20,13 @@ FOLDERS = {"compare": ("partmesh.compare", 0), "cases": ("partmesh.cases", 1), "
            "particle": ("partmesh.particle", 2), "hybrid": ("partmesh.hybrid", 3), "partmesh": ("partmesh", 4)}
 #: imports that stay inside functions, each for a reason of its own
 LAZY = {
+    "dask": "xarray imports dask.array on the first result it builds (about 0.4 s): a grid method loads it while "
+            "XLA compiles its loop, in another thread",
     "distributed": "Dask's scheduler and workers start only for sweeps, ensembles and studies (about 1 s to import)",
     "numba": "a Dask worker sets its numba threads before the run's kernels load",
     "scipy": "the Sedov energy integral's quadrature: the exact solutions a run's scene loads stay without SciPy "
-             "(about 0.5 s)",
+             "(about 0.5 s); the k-d tree of a body's image points with no fluid around them: an fv run without "
+             "such points stays without scipy.spatial (about 0.15 s)",
     "jax": "bench reads the device JAX runs on, and JAX loads only when a grid method runs",
 }
 #: package -> {module its ``_LAZY`` table loads on first use: why not at ``import``} (see test_import.py)

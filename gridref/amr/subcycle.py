@@ -21,10 +21,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jax_cfd.base import grids
-
 from partmesh.gridref.amr.hierarchy import Hierarchy, Levels, from_level, joined, with_level
-from partmesh.gridref.grid import bilinear_stencil
+from partmesh.gridref.grid import Grid, bilinear_stencil
 
 
 class Subcycler:
@@ -98,7 +96,7 @@ def probe_stencils(levels: Levels, points) -> list[tuple[np.ndarray, np.ndarray,
     out = []
     for level in range(lay.levels):
         cells, h = lay.cells(level), lay.spacing(level)
-        grid = grids.Grid(cells, domain=tuple((o, o + n * s) for o, n, s in zip(lay.origin, cells, h)))
+        grid = Grid(cells, tuple((o, o + n * s) for o, n, s in zip(lay.origin, cells, h)))
         index, weights = bilinear_stencil(grid, points, lay.periodic)
         at = (index,) if lay.dim == 1 else np.divmod(index, cells[0])[::-1]
         index = lay.cell_index(level, at)

@@ -53,7 +53,6 @@ from dataclasses import dataclass
 import jax
 import jax.numpy as jnp
 import numpy as np
-from scipy.spatial import cKDTree
 
 from partmesh.cases.shape_queries import normal, signed_distance
 from partmesh.gridref.euler.riemann import RIEMANN_SOLVERS
@@ -372,6 +371,8 @@ def immersed_boundary(grid, shapes, periodic=(False, False), band: float = 3.0, 
     total = weights.sum(axis=1)
     orphans = total <= 1e-12
     if np.any(orphans):
+        from scipy.spatial import cKDTree
+
         fluid_idx = np.flatnonzero(fluid.ravel())
         tree = cKDTree(np.stack([X.ravel()[fluid_idx], Y.ravel()[fluid_idx]], axis=1))
         _, nearest = tree.query(image[orphans])

@@ -67,7 +67,8 @@ def initial_state(scene, grid, fluid=None):
         rho_y = alpha * (charge.explosive.rho0 if density is None else np.asarray(density, float))
         W = (rho_y + (1.0 - alpha) * W[0], *W[1:-1], rho_y, rho_y if charge.burnt else np.zeros_like(alpha), alpha,
              W[-1])
-    return conservative(tuple(jnp.asarray(a) for a in W), gas_of(scene))
+    # (in numpy: an ideal gas's conversion is arithmetic alone, which jax would compile for each grid size)
+    return tuple(jnp.asarray(u) for u in conservative(tuple(np.asarray(a) for a in W), gas_of(scene)))
 
 
 def gas_of(scene):

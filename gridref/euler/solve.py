@@ -52,7 +52,8 @@ def solve(scene, settings: FVSettings):
     with compiling("fv", settings.progress, GRID_SIZE) as compiled:
         stepper.compile(U)
     run = _Run(scene, grid, ib, settings.record(), compile_seconds=compiled.seconds,
-               history=History(np.asarray(probe_pressure(U)), 2 * scene.dim, scene.t_start),
+               history=History(np.asarray(probe_pressure(tuple(np.asarray(u) for u in U))), 2 * scene.dim,
+                               scene.t_start),
                devices=len(U[0].sharding.device_set))
     t, state = scene.t_start, stepper.start(U)
     dt_cfl = float(stepper.initial_dt(U))
@@ -79,7 +80,7 @@ def _probe_sampler(probe_idx, probe_w, gas):
     """The pressure at the probes: bilinear in the cells of ``probe_idx``."""
     def probe_pressure(U):
         p = primitive(tuple(a.ravel()[probe_idx] for a in U), gas)[-1]
-        return jnp.sum(p * probe_w, axis=-1)
+        return (p * probe_w).sum(axis=-1)
     return probe_pressure
 
 
@@ -131,7 +132,8 @@ class _Run(RunRecord):
     def fields(self, state):
         U, floors = state
         self.floors = np.asarray(floors)
-        return named_fields(primitive(U, self.gas), self.gas, self.scene.fields, self.solid)
+        return named_fields(primitive(tuple(np.asarray(u) for u in U), self.gas), self.gas, self.scene.fields,
+                            self.solid)
 
     def totals(self, state) -> dict:
         """Mass and energy in the gas (the open part of every cell; of

@@ -544,7 +544,7 @@ def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable
 
     def again(carry):
         out, _, k = carry
-        return (k == 0) | (~jnp.isfinite(out[1]) & (k <= retries))
+        return (k == 0) | (jnp.isnan(out[1]) & (k <= retries))
 
     out, _, _ = jax.lax.while_loop(again, tried, (start, allowed, 0))
 
@@ -555,7 +555,7 @@ def with_fallbacks(attempt: Callable, allowed_after: Callable, floored: Callable
 
     # (a loop of one pass or none, not a conditional: the branch that passes the state through unchanged copied
     # every array of it, each step)
-    return jax.lax.fori_loop(0, jnp.where(jnp.isfinite(out[1]), 0, 1), with_floors, (out, jnp.zeros(3)))
+    return jax.lax.fori_loop(0, jnp.where(jnp.isnan(out[1]), 1, 0), with_floors, (out, jnp.zeros(3)))
 
 
 class Stepper:
