@@ -97,14 +97,14 @@ def solve(scene, settings: SWESettings):
         if not np.all(np.isfinite(a)):
             raise InputError(f"scene {scene.name}: the {name} must be finite everywhere.")
     dtype = PRECISIONS[settings.precision]
-    U = tuple(jnp.asarray(a, dtype) for a in (h0, h0 * u0, h0 * v0)[: 1 + scene.dim])
+    U = tuple(jnp.asarray(np.asarray(a, dtype)) for a in (h0, h0 * u0, h0 * v0)[: 1 + scene.dim])
     scheme = Scheme(g=scene.g, dx=tuple(grid.step), kinds=tuple(scene.boundaries[s] for s in scene.sides),
                     radial=scene.geometry == "radial", limiter=settings.limiter, cfl=settings.cfl)
     radius = radii(cell_centres(grid)[0], grid.step[0], dtype) if scheme.radial else None
     gauges = [pr.at(scene.dim) for pr in scene.probes] or [(X.flat[0], 0.0)[: scene.dim]]
     gauge_index, gauge_weight = bilinear_stencil(grid, gauges)
-    stepper = Stepper(scheme, jnp.asarray(z, dtype), radius, jnp.asarray(gauge_index), jnp.asarray(gauge_weight),
-                      dtype)
+    stepper = Stepper(scheme, jnp.asarray(np.asarray(z, dtype)), radius, jnp.asarray(gauge_index),
+                      jnp.asarray(gauge_weight), dtype)
     with compiling("swe", settings.progress, GRID_SIZE) as compiled:
         stepper.compile(U)
     run = _Run(scene, grid, z, settings.record(), compiled.seconds,
@@ -135,8 +135,9 @@ class _Run(RunRecord):
         self.grid, self.z = grid, z
 
     def fields(self, U) -> dict:
-        h = np.asarray(U[0])
-        vel = [np.asarray(v) for v in velocities(U)]
+        U = tuple(np.asarray(u) for u in U)
+        h = U[0]
+        vel = velocities(U, np)
         eta = np.where(h > DRY, h + self.z, np.nan)
         values = {"eta": eta, "h": h, "u": vel[0]}
         if len(vel) == 2:

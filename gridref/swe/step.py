@@ -84,10 +84,12 @@ class Scheme(SchemeAxes):
     cfl: float = 0.25
 
 
-def velocities(U):
-    """Velocities ``(u[, v])`` from ``(h, h u[, h v])``, desingularised."""
+def velocities(U, xp=jnp):
+    """Velocities ``(u[, v])`` from ``(h, h u[, h v])``, desingularised;
+    ``xp``: the array module (numpy for a frame on the host: no jax
+    operation to compile for each new grid size)."""
     h = U[0]
-    inverse = 2.0 * h / (h * h + jnp.maximum(h * h, DRY * DRY))
+    inverse = 2.0 * h / (h * h + xp.maximum(h * h, DRY * DRY))
     return tuple(m * inverse for m in U[1:])
 
 
@@ -285,4 +287,4 @@ def radii(x_centres, dx, dtype=jnp.float64):
     """Cell-centre and face radii ``(r_c, r_f)`` of a radial grid."""
     r_c = np.asarray(x_centres, float)
     r_f = np.concatenate([r_c - 0.5 * dx, r_c[-1:] + 0.5 * dx])
-    return jnp.asarray(r_c, dtype), jnp.asarray(r_f, dtype)
+    return jnp.asarray(r_c.astype(dtype)), jnp.asarray(r_f.astype(dtype))
