@@ -187,33 +187,6 @@ def _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half,
     return cnt - 1, ncand  # the particle itself was counted (r = 0 < H_i)
 
 
-@numba.njit(cache=True, parallel=PRANGE_ONLY)
-def _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk, rows):
-    """Neighbour count of every particle (by original index) found in its
-    own stencil of ``sk[k]`` cells, and the largest candidate count (the
-    scratch size the fill pass needs). Rows of small particles see the
-    large ones only within their own support (``Hsmall``); the rest of
-    those pairs come from the large particles' rows (:func:`_scatter_large`).
-    Particles from ``rows`` on count none unless they are large."""
-    n = Hs.shape[0]
-    Hnone = np.zeros(n)
-    counts = np.zeros(n, dtype=np.int64)
-    ncand = np.zeros(n, dtype=np.int64)
-    e = np.empty(0, dtype=np.int32)
-    for k in prange(n):
-        if order[k] >= rows and not big[k]:
-            continue
-        Hcand = Hsmall if not big[k] else Hnone
-        # (k as int64, as in the fill pass: prange's unsigned index would compile the scan a second time)
-        c, m = _visit(np.int64(k), xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], e)
-        counts[order[k]] = c
-        ncand[k] = m
-    most = 0  # (a loop: ncand.max() would compile numpy's max for this kernel alone)
-    for k in range(n):
-        most = max(most, ncand[k])
-    return counts, most
-
-
 @numba.njit(cache=True)
 def _prefix(counts):
     n = counts.size
@@ -224,28 +197,51 @@ def _prefix(counts):
     return offsets
 
 
+#: particles of a chunk of the pass (sorted by cell), which share one scratch list when they write theirs
 _CHUNK = 256
 
 
 @numba.njit(cache=True, parallel=PRANGE_ONLY)
-def _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk,
-               maxc, offsets, index, only_large, rows):
-    """Write every particle's below ``rows`` (``only_large``: every large
-    particle's) stencil neighbours from ``offsets[i]`` on; chunks of sorted
-    particles share one scratch list."""
+def _neighbour_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per, box, half, sk, rows,
+                    fill, maxc, offsets, index, only_large):
+    """The scan of every particle's stencil of ``sk[k]`` cells, in chunks of
+    sorted particles. Not ``fill``: ``(counts, most)``, the neighbour count
+    of every particle (by original index) and the largest candidate count
+    (the scratch size the writing pass needs); particles from ``rows`` on
+    count none unless they are large. ``fill``: every particle's below
+    ``rows`` (``only_large``: every large particle's) neighbours written from
+    ``offsets[i]`` on into ``index``, the chunk's particles sharing one
+    scratch list of ``maxc``; ``(empty, 0)``. Rows of small particles see
+    the large ones only within their own support (``Hsmall``); the rest of
+    those pairs come from the large particles' rows (:func:`_scatter_large`).
+    One function for both passes: numba compiles each ``prange`` loop as a
+    function of its own, about 1.8 s each (measured)."""
     n = Hs.shape[0]
     Hnone = np.zeros(n)
-    nchunk = (n + _CHUNK - 1) // _CHUNK
-    for ch in prange(nchunk):
-        bk = np.empty(max(maxc, 1), dtype=np.int32)  # never empty: an empty list means "count"
+    counted = 0 if fill else n
+    counts = np.zeros(counted, dtype=np.int64)
+    ncand = np.zeros(counted, dtype=np.int64)
+    for ch in prange((n + _CHUNK - 1) // _CHUNK):
+        bk = np.empty(max(maxc, 1) if fill else 0, dtype=np.int32)  # (an empty list means "count")
         for k in range(ch * _CHUNK, min(n, (ch + 1) * _CHUNK)):
-            if (only_large and not big[k]) or (not only_large and order[k] >= rows):
+            if fill:
+                if (only_large and not big[k]) or (not only_large and order[k] >= rows):
+                    continue
+            elif order[k] >= rows and not big[k]:
                 continue
             Hcand = Hsmall if not big[k] else Hnone
-            p, _ = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], bk)
-            q = offsets[order[k]]
-            for t in range(p):
-                index[q + t] = order[bk[t]]
+            p, m = _visit(k, xs0, xs1, xs2, Hs, Hcand, dim, cid3, start, ncell, per, box, half, sk[k], bk)
+            if fill:
+                q = offsets[order[k]]
+                for t in range(p):
+                    index[q + t] = order[bk[t]]
+            else:
+                counts[order[k]] = p
+                ncand[k] = m
+    most = 0  # (a loop: ncand.max() would compile numpy's max for this kernel alone)
+    for k in range(counted):
+        most = max(most, ncand[k])
+    return counts, most
 
 
 @numba.njit(cache=True)
@@ -402,8 +398,8 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
     cell_width = width[:dim].min()
     sk = np.where(big, np.ceil(Hs / (cell_width / CELL_MARGIN)).astype(np.int64), s)
     Hsmall = np.where(big, 0.0, Hs)
-    counts, maxc = _count_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
-                               rows)
+    counts, maxc = _neighbour_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half,
+                                   sk, rows, False, 0, np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int32), False)
     large = np.flatnonzero(is_large)
     rank = np.empty(n, dtype=np.int64)
     rank[order] = np.arange(n)
@@ -413,16 +409,16 @@ def neighbour_lists(x, H, lo, hi, periodic=False, *, sort_lists=False, reach=2, 
         big_offsets = _prefix(np.where(is_large, counts, 0))
         m = int(big_offsets[-1])
         big_index = np.empty(m, dtype=np.int32)
-        _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half,
-                   sk, int(maxc), big_offsets, big_index, True, rows)
+        _neighbour_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk, rows,
+                        True, int(maxc), big_offsets, big_index, True)
         _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, big_offsets, big_index,
                        box, half, True, extra, rows)
     counts[rows:] = 0
     offsets = _prefix(counts + extra)
     m = int(offsets[-1])
     index = np.empty(m, dtype=np.int32)
-    _fill_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk,
-               int(maxc), offsets, index, False, rows)
+    _neighbour_pass(xs0, xs1, xs2, Hs, Hsmall, big, dim, order, cid3, start, ncell, per3, box, half, sk, rows, True,
+                    int(maxc), offsets, index, False)
     if large.size:
         _scatter_large(xs0, xs1, xs2, Hs, rank, large, big_offsets, big_index, counts, offsets, index, box, half,
                        False, np.zeros(n, dtype=np.int64), rows)
